@@ -1,0 +1,50 @@
+"""Problems found in input documents: every one names the file and line of the XML that caused it."""
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Loc:
+    file: str
+    line: int = 0
+
+    def __str__(self):
+        return "%s:%d" % (self.file, self.line)
+
+
+UNKNOWN = Loc("<unknown>", 0)
+
+
+class MtlxError(Exception):
+    """One or more problems in input. `problems` holds (Loc, message) pairs, printed one a line."""
+
+    def __init__(self, problems):
+        if isinstance(problems, tuple):
+            problems = [problems]
+        self.problems = list(problems)
+        super().__init__("\n".join(self.lines()))
+
+    def lines(self):
+        return ["%s: %s" % (loc, msg) for loc, msg in self.problems]
+
+
+class Problems:
+    """Collects problems during a stage so that one run reports all of them, then raises once."""
+
+    def __init__(self):
+        self.items = []
+
+    def add(self, loc, message):
+        item = (loc or UNKNOWN, message)
+        if item not in self.items:
+            self.items.append(item)
+
+    def extend(self, error):
+        for loc, msg in error.problems:
+            self.add(loc, msg)
+
+    def __bool__(self):
+        return bool(self.items)
+
+    def raise_if_any(self):
+        if self.items:
+            raise MtlxError(self.items)

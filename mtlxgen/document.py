@@ -1,0 +1,311 @@
+"""The document model: typed dataclasses for the MaterialX elements, built from the XML tree.
+
+Values are parsed into Python values of their type; fileprefix / geomprefix / colorspace are
+inherited down the tree and applied here, so later stages never look at ancestors.
+"""
+from dataclasses import dataclass, field
+
+from . import mxtypes
+from .diagnostics import Loc, MtlxError, Problems
+from .xmlreader import XElement, read_file
+
+# Element tags that are not nodes.
+NON_NODE_TAGS = {
+    "nodedef", "nodegraph", "implementation", "typedef", "geompropdef", "look", "lookgroup", "collection",
+    "geominfo", "propertyset", "propertysetassign", "variantset", "variantassign", "backdrop", "unitdef",
+    "unittypedef", "attributedef", "targetdef", "member", "input", "output", "token", "parameter", "comment",
+    "materialassign", "visibility", "variant", "geomprop", "property", "unit", "materialx",
+}
+
+
+@dataclass
+class Port:
+    """An <input>, <output> or <token> of a node, nodedef or nodegraph."""
+    name: str
+    type: str
+    loc: Loc
+    kind: str = "input"
+    value: object = None            # parsed value (None where the port carries none)
+    text: str = None                # the value string as written (after prefixes)
+    nodename: str = None
+    nodegraph: str = None
+    output: str = None
+    interfacename: str = None
+    defaultgeomprop: str = None
+    defaultinput: str = None
+    colorspace: str = None
+    unit: str = None
+    unittype: str = None
+    uniform: bool = False
+    enum: str = None
+    enumvalues: str = None
+    channels: str = None            # 1.38 swizzle on inputs (upgraded away)
+
+    @property
+    def connected(self):
+        return bool(self.nodename or self.nodegraph or self.interfacename)
+
+
+@dataclass
+class Node:
+    category: str
+    name: str
+    type: str
+    loc: Loc
+    inputs: dict = field(default_factory=dict)      # name -> Port
+    outputs: dict = field(default_factory=dict)     # name -> Port (declared outputs of multi-output nodes)
+    tokens: dict = field(default_factory=dict)
+    nodedef: str = None
+    version: str = None
+    attrs: dict = field(default_factory=dict)
+
+
+@dataclass
+class NodeDef:
+    name: str
+    category: str
+    loc: Loc
+    inputs: dict = field(default_factory=dict)
+    outputs: dict = field(default_factory=dict)
+    tokens: dict = field(default_factory=dict)
+    inherit: str = None
+    version: str = None
+    isdefaultversion: bool = False
+    nodegroup: str = None
+    target: str = None
+    source: str = ""                # which library it came from ("stdlib", ..., or "document")
+
+    @property
+    def type(self):
+        return next(iter(self.outputs.values())).type if len(self.outputs) == 1 else "multioutput"
+
+
+@dataclass
+class NodeGraph:
+    name: str
+    loc: Loc
+    nodedef: str = None
+    inputs: dict = field(default_factory=dict)
+    outputs: dict = field(default_factory=dict)
+    tokens: dict = field(default_factory=dict)
+    nodes: dict = field(default_factory=dict)
+    version: str = None
+
+
+@dataclass
+class Implementation:
+    name: str
+    loc: Loc
+    nodedef: str = None
+    file: str = None
+    function: str = None
+    sourcecode: str = None
+    target: str = None
+    nodegraph: str = None
+
+
+@dataclass
+class GeomPropDef:
+    name: str
+    type: str
+    geomprop: str
+    loc: Loc
+    space: str = None
+    index: int = 0
+    attrs: dict = field(default_factory=dict)
+
+
+@dataclass
+class Document:
+    path: str
+    version: str = "1.39"
+    colorspace: str = None
+    nodedefs: dict = field(default_factory=dict)
+    nodegraphs: dict = field(default_factory=dict)
+    nodes: dict = field(default_factory=dict)           # top-level nodes
+    outputs: dict = field(default_factory=dict)         # top-level outputs
+    inputs: dict = field(default_factory=dict)          # top-level inputs (rare)
+    implementations: dict = field(default_factory=dict)
+    structs: dict = field(default_factory=dict)         # name -> mxtypes.StructType
+    geompropdefs: dict = field(default_factory=dict)
+    unitdefs: dict = field(default_factory=dict)        # unittype -> {unit name: scale}
+    looks: dict = field(default_factory=dict)
+    order: list = field(default_factory=list)           # top-level element names in document order
+
+
+def version_tuple(v):
+    try:
+        return tuple(int(x) for x in (v or "0").split("."))
+    except ValueError:
+        return (0,)
+
+
+class _Builder:
+    def __init__(self, doc, problems):
+        self.doc = doc
+        self.problems = problems
+
+    def port(self, el, ctx, kind):
+        a = el.attrs
+        name = a.get("name")
+        if not name:
+            self.problems.add(el.loc, "<%s> without a name" % el.tag)
+            name = "?"
+        type_name = a.get("type", "")
+        if not type_name and kind != "token":
+            self.problems.add(el.loc, "%s '%s' has no type" % (kind, name))
+        p = Port(name=name, type=type_name or "string", loc=el.loc, kind=kind,
+                 nodename=a.get("nodename"), nodegraph=a.get("nodegraph"), output=a.get("output"),
+                 interfacename=a.get("interfacename"), defaultgeomprop=a.get("defaultgeomprop"),
+                 defaultinput=a.get("defaultinput"), colorspace=a.get("colorspace"),
+                 unit=a.get("unit"), unittype=a.get("unittype"), uniform=a.get("uniform") == "true",
+                 enum=a.get("enum"), enumvalues=a.get("enumvalues"), channels=a.get("channels"))
+        text = a.get("value")
+        if text is not None:
+            if p.type == "filename" and ctx.get("fileprefix") and text:
+                text = ctx["fileprefix"] + text
+            if p.type in ("geomname", "geomnamearray") and ctx.get("geomprefix") and text:
+                text = ctx["geomprefix"] + text
+            p.text = text
+            try:
+                p.value = mxtypes.parse_value(p.type, text, self.doc.structs)
+            except mxtypes.ValueError_ as e:
+                self.problems.add(el.loc, "%s '%s' of type %s: %s" % (kind, name, p.type, e))
+        if p.type == "filename" and p.colorspace is None:
+            p.colorspace = ctx.get("colorspace")
+        return p
+
+    def ports_of(self, el, ctx, target):
+        for c in el.children:
+            if c.tag in ("input", "parameter"):
+                p = self.port(c, ctx, "input")
+                target.inputs[p.name] = p
+            elif c.tag == "output":
+                p = self.port(c, ctx, "output")
+                target.outputs[p.name] = p
+            elif c.tag == "token":
+                p = self.port(c, ctx, "token")
+                target.tokens[p.name] = p
+
+    def node(self, el, ctx):
+        a = el.attrs
+        n = Node(category=el.tag, name=a.get("name", ""), type=a.get("type", ""), loc=el.loc,
+                 nodedef=a.get("nodedef"), version=a.get("version"), attrs=dict(a))
+        if not n.name:
+            self.problems.add(el.loc, "<%s> node without a name" % el.tag)
+        if not n.type:
+            self.problems.add(el.loc, "node '%s' has no type" % n.name)
+        self.ports_of(el, ctx, n)
+        return n
+
+    def nodedef(self, el, ctx, source):
+        a = el.attrs
+        nd = NodeDef(name=a.get("name", ""), category=a.get("node", ""), loc=el.loc, inherit=a.get("inherit"),
+                     version=a.get("version"), isdefaultversion=a.get("isdefaultversion") == "true",
+                     nodegroup=a.get("nodegroup"), target=a.get("target"), source=source)
+        self.ports_of(el, ctx, nd)
+        if not nd.outputs and a.get("type"):
+            nd.outputs["out"] = Port(name="out", type=a["type"], loc=el.loc, kind="output")
+        return nd
+
+    def nodegraph(self, el, ctx):
+        a = el.attrs
+        g = NodeGraph(name=a.get("name", ""), loc=el.loc, nodedef=a.get("nodedef"), version=a.get("version"))
+        for c in el.children:
+            cctx = _child_ctx(ctx, c)
+            if c.tag in ("input", "parameter", "output", "token"):
+                continue
+            if c.tag in NON_NODE_TAGS:
+                continue
+            n = self.node(c, cctx)
+            if n.name in g.nodes:
+                self.problems.add(c.loc, "duplicate node name '%s' in nodegraph '%s'" % (n.name, g.name))
+            g.nodes[n.name] = n
+        self.ports_of(el, ctx, g)
+        return g
+
+
+def _child_ctx(ctx, el):
+    keys = ("fileprefix", "geomprefix", "colorspace")
+    if not any(k in el.attrs for k in keys):
+        return ctx
+    new = dict(ctx)
+    for k in keys:
+        if k in el.attrs:
+            new[k] = el.attrs[k]
+    return new
+
+
+def build(root, path, source="document"):
+    """XElement tree of one file (includes spliced) -> Document. Raises MtlxError listing all problems."""
+    doc = Document(path=path, version=root.get("version", "1.39"), colorspace=root.get("colorspace"))
+    problems = Problems()
+    b = _Builder(doc, problems)
+    ctx = _child_ctx({}, root)
+    # typedefs first: struct values elsewhere depend on them
+    for el in root.children:
+        if el.tag == "typedef":
+            members = [(m.get("name"), m.get("type"), m.get("value")) for m in el.children if m.tag == "member"]
+            if members:
+                doc.structs[el.get("name")] = mxtypes.StructType(el.get("name"), members)
+    for el in root.children:
+        cctx = _child_ctx(ctx, el)
+        tag, name = el.tag, el.get("name", "")
+        if tag == "typedef":
+            continue
+        if tag in ("nodedef",):
+            nd = b.nodedef(el, cctx, source)
+            if nd.name in doc.nodedefs:
+                problems.add(el.loc, "duplicate nodedef '%s'" % nd.name)
+            doc.nodedefs[nd.name] = nd
+        elif tag == "nodegraph":
+            g = b.nodegraph(el, cctx)
+            doc.nodegraphs[g.name] = g
+        elif tag == "implementation":
+            a = el.attrs
+            doc.implementations[name] = Implementation(name=name, loc=el.loc, nodedef=a.get("nodedef"),
+                                                       file=a.get("file"), function=a.get("function"),
+                                                       sourcecode=a.get("sourcecode"), target=a.get("target"),
+                                                       nodegraph=a.get("nodegraph"))
+        elif tag == "geompropdef":
+            a = el.attrs
+            try:
+                index = int(a.get("index", "0"))
+            except ValueError:
+                problems.add(el.loc, "geompropdef '%s': index is not an integer" % name)
+                index = 0
+            doc.geompropdefs[name] = GeomPropDef(name=name, type=a.get("type", ""), geomprop=a.get("geomprop", ""),
+                                                 loc=el.loc, space=a.get("space"), index=index, attrs=dict(a))
+        elif tag == "unitdef":
+            units = doc.unitdefs.setdefault(el.get("unittype", ""), {})
+            for u in el.children:
+                if u.tag == "unit":
+                    try:
+                        units[u.get("name")] = float(u.get("scale", "1"))
+                    except ValueError:
+                        problems.add(u.loc, "unit '%s': scale is not a number" % u.get("name"))
+        elif tag == "output":
+            p = b.port(el, cctx, "output")
+            doc.outputs[p.name] = p
+        elif tag == "input":
+            p = b.port(el, cctx, "input")
+            doc.inputs[p.name] = p
+        elif tag == "look":
+            doc.looks[name] = el
+        elif tag in NON_NODE_TAGS:
+            continue
+        else:
+            n = b.node(el, cctx)
+            if n.name in doc.nodes:
+                problems.add(el.loc, "duplicate node name '%s'" % n.name)
+            doc.nodes[n.name] = n
+        if name:
+            doc.order.append(name)
+    problems.raise_if_any()
+    return doc
+
+
+def load(path, search_paths=(), source="document"):
+    """Read and build a document from a .mtlx file."""
+    root = read_file(path, search_paths)
+    return build(root, path, source)

@@ -1,0 +1,359 @@
+"""GLSL emitter: a typed Graph -> vertex and fragment GLSL plus the interface manifest.
+
+The fragment stage is: version, closure types (when used), the glsl_lib files the nodes need (each
+once, dependencies first), public uniforms with initializers, varyings, then `main` with one
+statement per node output in dependency order. Variable names come from the graph's node ids, so the
+same document always gives byte-identical shaders. The vertex stage passes exactly the streams the
+fragment stage reads.
+"""
+import json
+import os
+from dataclasses import dataclass, field
+
+from . import mxtypes, nodes, streams
+from .diagnostics import Loc, MtlxError
+from .graph import glsl_identifier
+from .library import glsl_lib_root
+
+GLSL_VERSION = "400"
+
+APP_UNIFORMS = {
+    "u_worldMatrix": "mat4", "u_viewProjectionMatrix": "mat4", "u_worldInverseTransposeMatrix": "mat4",
+    "u_worldInverseMatrix": "mat4",
+}
+
+
+@dataclass
+class Shader:
+    element: str
+    vertex: str
+    fragment: str
+    manifest: dict = field(default_factory=dict)
+
+    @property
+    def stem(self):
+        return self.element.replace("/", "_")
+
+    def write(self, out_dir):
+        os.makedirs(out_dir, exist_ok=True)
+        paths = []
+        for ext, text in ((".vert", self.vertex), (".frag", self.fragment),
+                          (".json", json.dumps(self.manifest, indent=1) + "\n")):
+            p = os.path.join(out_dir, self.stem + ext)
+            with open(p, "w") as f:
+                f.write(text)
+            paths.append(p)
+        return paths
+
+
+# ---------------------------------------------------------------- glsl_lib files
+
+_FILE_CACHE = {}
+
+
+def read_lib_file(rel):
+    """(text, [required files]) of a glsl_lib file; `// requires: a.glsl b.glsl` header lines name deps."""
+    if rel not in _FILE_CACHE:
+        path = os.path.join(glsl_lib_root(), rel)
+        with open(path) as f:
+            text = f.read()
+        deps = []
+        for line in text.splitlines():
+            s = line.strip()
+            if s.startswith("// requires:"):
+                deps += s[len("// requires:"):].split()
+            elif s and not s.startswith("//"):
+                break
+        _FILE_CACHE[rel] = (text, deps)
+    return _FILE_CACHE[rel]
+
+
+class Emitter:
+    def __init__(self, graph):
+        self.graph = graph
+        self.files = []               # glsl_lib files in emission order
+        self.external = []            # (path, text) of document-supplied GLSL
+        self.streams = {}             # name -> Stream, in first-use order
+        self.app_uniforms = set()
+        self.vars = {}                # (node id, output) -> GLSL expression
+        self.body = []
+        self.names = set(graph.uniforms)
+        self.textures = {}            # sampler uniform -> extra manifest fields
+        self.uses_closures = False
+
+    # ---------- services for templates and handlers ----------
+    def fail(self, node, message):
+        raise MtlxError((node.loc, "node '%s' (%s): %s" % (node.id, node.nodedef.name, message)))
+
+    def require(self, rel):
+        if rel in self.files:
+            return
+        try:
+            _, deps = read_lib_file(rel)
+        except OSError:
+            raise RuntimeError("glsl_lib file missing: %s" % rel) from None
+        for d in deps:
+            self.require(d)
+        if rel not in self.files:
+            self.files.append(rel)
+
+    def app_uniform(self, name):
+        """An application uniform (interface.md) the fragment stage reads."""
+        self.app_uniforms.add(name)
+        return name
+
+    def stream(self, name, mx_type=None):
+        s = self.streams.get(name)
+        if s is None:
+            s = streams.lookup(name, mx_type)
+            self.streams[name] = s
+        return s.fragment.format("v_" + name)
+
+    def expr(self, src):
+        if src.node is not None:
+            return self.vars[(src.node, src.output)]
+        if src.uniform:
+            return src.uniform
+        if mxtypes.is_closure(src.type):
+            self.uses_closures = True
+            return mxtypes.closure_zero(src.type)
+        try:
+            return mxtypes.glsl_literal(src.type, src.value, self.graph.structs)
+        except mxtypes.ValueError_ as e:
+            raise MtlxError((src.loc, str(e))) from None
+
+    def input_expr(self, node, name):
+        return self.expr(node.inputs[name])
+
+    def static(self, node, name):
+        src = node.inputs.get(name)
+        if src is None:
+            self.fail(node, "has no input '%s'" % name)
+        if src.linked:
+            self.fail(node, "input '%s' must be a constant, it is connected" % name)
+        return src.value
+
+    def glsl_type(self, mx_type):
+        if mxtypes.is_closure(mx_type):
+            self.uses_closures = True
+        return mxtypes.glsl_type(mx_type, self.graph.structs)
+
+    def fresh(self, stem):
+        base = glsl_identifier(stem)
+        name, k = base, 1
+        while name in self.names:
+            k += 1
+            name = "%s%d" % (base, k)
+        self.names.add(name)
+        return name
+
+    # ---------- templates ----------
+    def render(self, template, node, out_type):
+        out, i = [], 0
+        while True:
+            j = template.find("{{", i)
+            if j < 0:
+                out.append(template[i:])
+                break
+            k = template.find("}}", j)
+            if k < 0:
+                self.fail(node, "unterminated '{{' in implementation template")
+            out.append(template[i:j])
+            out.append(self.field(template[j + 2:k].strip(), node, out_type))
+            i = k + 2
+        return "".join(out)
+
+    def field(self, f, node, out_type):
+        if f.startswith("="):
+            value = self.static(node, f[1:])
+            t = node.inputs[f[1:]].type
+            if t in ("string", "filename", "geomname"):
+                return glsl_identifier(str(value))
+            return mxtypes.glsl_literal(t, value, self.graph.structs)
+        if f.startswith("@"):
+            return self.stream(f[1:])
+        if f == "$type":
+            return self.glsl_type(out_type)
+        if f.startswith("$type:"):
+            return self.glsl_type(node.inputs[f[6:]].type)
+        if f in node.inputs:
+            src = node.inputs[f]
+            if src.type in ("string", "geomname") and not src.linked:
+                self.fail(node, "string input '%s' cannot be used as a GLSL value" % f)
+            return self.expr(src)
+        self.fail(node, "implementation template names '%s', which is not an input" % f)
+
+    # ---------- nodes ----------
+    def emit_node(self, node):
+        impl = nodes.lookup(node.nodedef, self.graph.library)
+        if impl is None:
+            self.fail(node, "no GLSL implementation for nodedef %s" % node.nodedef.name)
+        for f in impl.files:
+            self.require(f)
+        if impl.external is not None:
+            exprs = self.external_call(node, impl.external)
+        elif impl.handler:
+            from .nodes import handlers
+            exprs = getattr(handlers, impl.handler)(node, self)
+        else:
+            exprs = {}
+            for oname, otype in node.outputs.items():
+                template = impl.outputs.get(oname) or (impl.outputs.get("*") if len(node.outputs) == 1 else None)
+                if template is None:
+                    self.fail(node, "implementation has no template for output '%s'" % oname)
+                exprs[oname] = self.render(template, node, otype)
+        for oname, otype in node.outputs.items():
+            e = exprs[oname]
+            if _is_plain_name(e) or otype in ("filename", "string"):
+                self.vars[(node.id, oname)] = e     # pass-through: no copy
+                continue
+            var = self.fresh("%s_%s" % (node.id, oname))
+            self.body.append("    %s %s = %s;" % (self.glsl_type(otype), var, e))
+            self.vars[(node.id, oname)] = var
+
+    def external_call(self, node, external):
+        path, function, loc = external
+        full = path if os.path.isabs(path) else os.path.join(os.path.dirname(loc.file), path)
+        if not any(p == full for p, _ in self.external):
+            try:
+                with open(full) as f:
+                    self.external.append((full, f.read()))
+            except OSError as e:
+                raise MtlxError((loc, "implementation file %s: %s" % (path, e.strerror))) from None
+        args = [self.expr(s) for n, s in node.inputs.items() if s.type not in ("string", "geomname")]
+        exprs = {}
+        for oname, otype in node.outputs.items():
+            var = self.fresh("%s_%s" % (node.id, oname))
+            self.body.append("    %s %s;" % (self.glsl_type(otype), var))
+            args.append(var)
+            exprs[oname] = var
+        self.body.append("    %s(%s);" % (function, ", ".join(args)))
+        return exprs
+
+    # ---------- stages ----------
+    def output_statement(self, result):
+        e = self.expr(result)
+        t = result.type
+        if t in ("surfaceshader", "material"):
+            self.uses_closures = True
+            return "vec4(%s.color, clamp(1.0 - dot(%s.transparency, vec3(1.0 / 3.0)), 0.0, 1.0))" % (e, e)
+        if t in ("BSDF", "VDF"):
+            self.uses_closures = True
+            return "vec4(%s.response, 1.0)" % e
+        if t == "EDF":
+            return "vec4(%s, 1.0)" % e
+        if t == "volumeshader":
+            return "vec4(%s.color, 1.0)" % e
+        if t == "float":
+            return "vec4(vec3(%s), 1.0)" % e
+        if t in ("integer", "boolean"):
+            return "vec4(vec3(float(%s)), 1.0)" % e
+        if t == "vector2":
+            return "vec4(%s, 0.0, 1.0)" % e
+        if t in ("color3", "vector3"):
+            return "vec4(%s, 1.0)" % e
+        if t in ("color4", "vector4"):
+            return e
+        raise MtlxError((result.loc, "an output of type %s cannot be rendered" % t))
+
+    def uniform_decl(self, u):
+        t = u.type
+        if t == "filename":
+            return "uniform sampler2D %s;" % u.name
+        if t in mxtypes.ARRAY_ELEMENT:
+            element = mxtypes.ARRAY_ELEMENT[t]
+            n = max(1, len(u.value or ()))
+            return "uniform %s %s[%d] = %s;" % (mxtypes.glsl_type(element), u.name, n,
+                                                 mxtypes.glsl_literal(t, u.value, self.graph.structs))
+        return "uniform %s %s = %s;" % (self.glsl_type(t), u.name, mxtypes.glsl_literal(t, u.value, self.graph.structs))
+
+    def emit(self):
+        g = self.graph
+        for node in g.nodes:
+            self.emit_node(node)
+        out_expr = self.output_statement(g.result)
+        frag = ["#version " + GLSL_VERSION, "// %s: generated by mtlxgen from %s" % (g.element, os.path.basename(g.doc_path)), ""]
+        if self.uses_closures:
+            self.files.insert(0, "closures.glsl")
+        for name, st in g.structs.items():
+            if any(s.type == name for n in g.nodes for s in n.inputs.values()) or any(
+                    t == name for n in g.nodes for t in n.outputs.values()) or g.result.type == name:
+                frag.append("struct %s { %s };" % (name, " ".join(
+                    "%s %s;" % (mxtypes.glsl_type(mt, g.structs), mn) for mn, mt, _ in st.members)))
+        for u in sorted(self.app_uniforms):
+            frag.append("uniform %s %s = mat4(1.0);" % (APP_UNIFORMS[u], u))
+        for u in g.uniforms.values():
+            frag.append(self.uniform_decl(u))
+        for s in self.streams.values():
+            frag.append("%sin %s v_%s;" % ("flat " if s.flat else "", s.type, s.name))
+        frag.append("layout(location = 0) out vec4 out_color;")
+        frag.append("")
+        for rel in self.files:
+            text, _ = read_lib_file(rel)
+            frag.append("// ---- glsl_lib/%s" % rel)
+            frag.append(text.rstrip() + "\n")
+        for path, text in self.external:
+            frag.append("// ---- %s" % os.path.basename(path))
+            frag.append(text.rstrip() + "\n")
+        frag.append("void main()")
+        frag.append("{")
+        frag.extend(self.body)
+        frag.append("    out_color = %s;" % out_expr)
+        frag.append("}")
+        fragment = "\n".join(frag) + "\n"
+        vertex, attributes = self.vertex_stage()
+        stem = g.element.replace("/", "_")
+        manifest = {
+            "element": g.element,
+            "glsl_version": GLSL_VERSION,
+            "vertex": stem + ".vert",
+            "fragment": stem + ".frag",
+            "attributes": attributes,
+            "uniforms": [self.manifest_uniform(u) for u in g.uniforms.values() if u.type != "filename"],
+            "textures": [self.manifest_texture(u) for u in g.uniforms.values() if u.type == "filename"],
+        }
+        return Shader(g.element, vertex, fragment, manifest)
+
+    def manifest_uniform(self, u):
+        value = u.value
+        if isinstance(value, tuple):
+            value = [list(v) if isinstance(v, tuple) else v for v in value]
+        return {"name": u.name, "type": self.uniform_type(u), "mtlx_type": u.type, "value": value}
+
+    def uniform_type(self, u):
+        if u.type in mxtypes.ARRAY_ELEMENT:
+            return "%s[%d]" % (mxtypes.glsl_type(mxtypes.ARRAY_ELEMENT[u.type]), max(1, len(u.value or ())))
+        return self.glsl_type(u.type)
+
+    def manifest_texture(self, u):
+        from .resolve import resolve_file
+        entry = {"uniform": u.name, "file": resolve_file(u.value, self.graph.doc_path) or u.value,
+                 "colorspace": u.colorspace or ""}
+        entry.update(self.textures.get(u.name, {}))
+        return entry
+
+    def vertex_stage(self):
+        attrs = {"i_position": "vec3"}
+        uniforms = {"u_worldMatrix", "u_viewProjectionMatrix"}
+        for s in self.streams.values():
+            for a, t in s.attributes:
+                attrs.setdefault(a, t)
+            uniforms.update(s.uniforms)
+        lines = ["#version " + GLSL_VERSION, "// %s: generated by mtlxgen" % self.graph.element, ""]
+        lines += ["in %s %s;" % (t, a) for a, t in attrs.items()]
+        lines += ["uniform %s %s = mat4(1.0);" % (APP_UNIFORMS[u], u) for u in sorted(uniforms)]
+        lines += ["%sout %s v_%s;" % ("flat " if s.flat else "", s.type, s.name) for s in self.streams.values()]
+        lines += ["", "void main()", "{",
+                  "    vec4 world_position = u_worldMatrix * vec4(i_position, 1.0);",
+                  "    gl_Position = u_viewProjectionMatrix * world_position;"]
+        lines += ["    v_%s = %s;" % (s.name, s.vertex) for s in self.streams.values()]
+        lines.append("}")
+        return "\n".join(lines) + "\n", attrs
+
+
+def _is_plain_name(e):
+    return e.replace("_", "a").isalnum() and not e[0].isdigit() and e not in ("true", "false")
+
+
+def emit(graph):
+    return Emitter(graph).emit()

@@ -1,0 +1,428 @@
+"""Typed graph: a renderable element of a document, resolved against the libraries and flattened.
+
+Every node is matched to its nodedef (MaterialX rules: category, output type, input names and types,
+`nodedef=` overrides, versions), every connection is type-checked, nodegraph implementations are
+expanded in place (library and document-defined, to any depth), interfacename bindings followed,
+defaultgeomprops turned into geometric nodes, defaults filled in. What remains is a list of leaf
+nodes in dependency order, each with a GLSL implementation in the node table, plus the public
+uniforms of the material. Cycles, unknown nodes and type mismatches are reported with file:line.
+"""
+import re
+from dataclasses import dataclass, field
+
+from . import mxtypes
+from .diagnostics import Loc, MtlxError, Problems
+from .document import version_tuple
+
+
+@dataclass
+class Source:
+    """Where an input's value comes from: a constant, a public uniform, or another node's output."""
+    type: str
+    value: object = None              # constant value (also the uniform's initial value)
+    uniform: str = None               # public uniform name, when the value is exposed
+    node: str = None                  # producing node id, when linked
+    output: str = None                # producing node's output name
+    colorspace: str = None            # filename inputs: the file's colour space
+    unit: str = None
+    unittype: str = None
+    loc: Loc = None
+
+    @property
+    def linked(self):
+        return self.node is not None
+
+
+@dataclass
+class GNode:
+    id: str                           # unique within the graph; also the stem of its GLSL variables
+    category: str
+    nodedef: object                   # document.NodeDef
+    inputs: dict                      # input name -> Source, in nodedef order
+    outputs: dict                     # output name -> type
+    loc: Loc
+    static: dict = field(default_factory=dict)   # string/enum inputs: name -> value (compile time)
+
+
+@dataclass
+class Uniform:
+    name: str
+    type: str
+    value: object
+    loc: Loc = None
+    colorspace: str = None            # filename uniforms only
+    default: object = None            # image nodes: the colour outside the image
+
+
+@dataclass
+class Graph:
+    element: str                      # name path of the renderable element
+    kind: str                         # "material", "shader" or "output"
+    result: Source                    # the value rendered
+    nodes: list                       # GNode in dependency order, only those the result needs
+    uniforms: dict                    # name -> Uniform (public inputs)
+    structs: dict
+    doc_path: str
+    library: object = None
+
+
+_GLSL_RESERVED = set("""attribute const uniform varying layout centroid flat smooth noperspective patch sample
+break continue do for while switch case default if else subroutine in out inout float double int void bool true
+false invariant discard return mat2 mat3 mat4 dmat2 dmat3 dmat4 mat2x2 mat2x3 mat2x4 mat3x2 mat3x3 mat3x4 mat4x2
+mat4x3 mat4x4 vec2 vec3 vec4 ivec2 ivec3 ivec4 bvec2 bvec3 bvec4 dvec2 dvec3 dvec4 uint uvec2 uvec3 uvec4 lowp
+mediump highp precision sampler1D sampler2D sampler3D samplerCube struct common partition active asm class union
+enum typedef template this packed goto inline noinline volatile public static extern external interface long
+short half fixed unsigned superp input output filter sizeof cast namespace using main texture sample resource
+BSDF EDF VDF surfaceshader volumeshader displacementshader lightshader material""".split())
+
+
+def glsl_identifier(name):
+    s = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    s = re.sub(r"__+", "_", s)
+    if not s or s[0].isdigit():
+        s = "n" + s
+    if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):
+        s = "n_" + s
+    return s
+
+
+class _Scope:
+    """A container of nodes being instantiated: the document, a document nodegraph, or an implementation."""
+
+    def __init__(self, nodes, prefix, interface, public, graph=None, parent=None, loc=None):
+        self.nodes = nodes            # name -> document.Node
+        self.prefix = prefix          # id prefix for nodes instantiated from here
+        self.interface = interface    # interface input name -> Source (implementations / doc nodegraphs)
+        self.public = public          # unconnected inputs become public uniforms
+        self.graph = graph            # document.NodeGraph for nodegraph scopes
+        self.parent = parent
+        self.loc = loc
+
+
+class GraphBuilder:
+    def __init__(self, doc, library):
+        self.doc = doc
+        self.lib = library.overlay(doc)
+        self.problems = Problems()
+        self.nodes = {}               # id -> GNode
+        self.order = []               # ids in completion order (dependencies first)
+        self.memo = {}                # (scope key, node name) -> {output: Source}
+        self.active = set()
+        self.uniforms = {}
+        self.used_ids = set()
+        self.geom_memo = {}
+
+    # ---------- names ----------
+    def new_id(self, stem):
+        base = glsl_identifier(stem)
+        ident, k = base, 1
+        while ident in self.used_ids:
+            k += 1
+            ident = "%s%d" % (base, k)
+        self.used_ids.add(ident)
+        return ident
+
+    def add_uniform(self, stem, type_name, value, loc, colorspace=None):
+        name = self.new_id(stem)
+        self.uniforms[name] = Uniform(name, type_name, value, loc, colorspace)
+        return name
+
+    # ---------- nodedef resolution ----------
+    def nodedef_for(self, node):
+        lib = self.lib
+        if node.nodedef:
+            nd = lib.nodedefs.get(node.nodedef)
+            if nd is None:
+                raise MtlxError((node.loc, "node '%s' names nodedef '%s', which is not defined" % (node.name, node.nodedef)))
+            return nd
+        candidates = lib.by_category.get(node.category)
+        if not candidates:
+            raise MtlxError((node.loc, "unknown node category '%s' (node '%s')" % (node.category, node.name)))
+        matches = []
+        for nd in candidates:
+            if node.version:
+                if nd.version != node.version:
+                    continue
+            elif nd.version and not nd.isdefaultversion and any(
+                    o.version is None or o.isdefaultversion for o in candidates if o is not nd):
+                continue
+            if not self._type_matches(node, nd):
+                continue
+            if all(i.name in nd.inputs and nd.inputs[i.name].type == i.type for i in node.inputs.values()):
+                matches.append(nd)
+        if matches:
+            return matches[0]
+        sig = ", ".join("%s: %s" % (i.name, i.type) for i in node.inputs.values())
+        types = sorted({nd.type for nd in candidates})
+        if not any(self._type_matches(node, nd) for nd in candidates):
+            raise MtlxError((node.loc, "node '%s': no '%s' nodedef outputs type %s (types: %s)"
+                             % (node.name, node.category, node.type, ", ".join(types))))
+        raise MtlxError((node.loc, "node '%s': no '%s' nodedef of type %s takes inputs (%s)"
+                         % (node.name, node.category, node.type, sig)))
+
+    @staticmethod
+    def _type_matches(node, nd):
+        if len(nd.outputs) > 1:
+            return node.type in ("multioutput", "")
+        return nd.type == node.type
+
+    # ---------- sources ----------
+    def source_of_port(self, port, scope, want_type, owner):
+        """The Source feeding `port` (an input of a node, or an output) in `scope`."""
+        if port.interfacename:
+            src = scope.interface.get(port.interfacename)
+            if src is None:
+                raise MtlxError((port.loc, "input '%s' names interface input '%s', which '%s' does not declare"
+                                 % (port.name, port.interfacename, scope.graph.name if scope.graph else "the document")))
+            return src
+        if port.nodegraph and not port.nodename:
+            g = self.doc.nodegraphs.get(port.nodegraph) or self.lib.nodegraphs.get(port.nodegraph)
+            if g is None:
+                raise MtlxError((port.loc, "input '%s' connects to nodegraph '%s', which does not exist"
+                                 % (port.name, port.nodegraph)))
+            out_name = port.output or (next(iter(g.outputs)) if len(g.outputs) == 1 else None)
+            if out_name not in g.outputs:
+                raise MtlxError((port.loc, "nodegraph '%s' has no output '%s'" % (g.name, port.output)))
+            return self.graph_output(g, g.outputs[out_name])
+        if port.nodename:
+            node = scope.nodes.get(port.nodename)
+            if node is None:
+                raise MtlxError((port.loc, "'%s' connects to node '%s', which does not exist%s"
+                                 % (port.name, port.nodename, " in nodegraph '%s'" % scope.graph.name if scope.graph else "")))
+            outs = self.instantiate(node, scope)
+            if port.output:
+                if port.output not in outs:
+                    raise MtlxError((port.loc, "node '%s' has no output '%s'" % (node.name, port.output)))
+                return outs[port.output]
+            if len(outs) == 1:
+                return next(iter(outs.values()))
+            if "out" in outs:
+                return outs["out"]
+            raise MtlxError((port.loc, "'%s' connects to multi-output node '%s' without naming an output"
+                             % (port.name, node.name)))
+        return None
+
+    def graph_output(self, g, out_port):
+        """Source of a document nodegraph's output (its nodes instantiated in the graph's own scope)."""
+        scope = self.doc_graph_scope(g)
+        src = self.source_of_port(out_port, scope, out_port.type, g.name)
+        if src is None:
+            if out_port.value is not None:
+                return Source(out_port.type, value=out_port.value, loc=out_port.loc)
+            raise MtlxError((out_port.loc, "output '%s' of nodegraph '%s' is not connected" % (out_port.name, g.name)))
+        self.check_type(out_port, src, "output '%s' of '%s'" % (out_port.name, g.name))
+        return src
+
+    def doc_graph_scope(self, g):
+        key = ("graph", g.name)
+        if key not in self.memo:
+            interface = {}
+            for inp in g.inputs.values():
+                if inp.nodename or inp.nodegraph:
+                    interface[inp.name] = self.source_of_port(inp, self.doc_scope, inp.type, g.name)
+                else:
+                    interface[inp.name] = self.public_value(g.name, inp, inp)
+            self.memo[key] = _Scope(g.nodes, g.name + "/", interface, True, g, self.doc_scope, g.loc)
+        return self.memo[key]
+
+    def public_value(self, owner, port, declared):
+        """An unconnected input at document level: a public uniform initialised with its value."""
+        value = port.value if port.value is not None else declared.value
+        if value is None:
+            value = mxtypes.zero(declared.type, self.lib.structs)
+        t = declared.type
+        colorspace = port.colorspace or declared.colorspace
+        if t in ("string", "geomname", "stringarray") or mxtypes.is_closure(t):
+            return Source(t, value=value, loc=port.loc)
+        name = self.add_uniform("%s_%s" % (owner, declared.name), t, value, port.loc,
+                                colorspace if t == "filename" else None)
+        return Source(t, value=value, uniform=name, colorspace=colorspace if t == "filename" else None,
+                      unit=port.unit or declared.unit, unittype=port.unittype or declared.unittype, loc=port.loc)
+
+    def check_type(self, port, src, what):
+        if src.type != port.type:
+            raise MtlxError((port.loc, "%s has type %s but is connected to a value of type %s"
+                             % (what, port.type, src.type)))
+
+    # ---------- nodes ----------
+    def geom_source(self, geomprop_name, loc, scope):
+        gp = self.lib.geompropdefs.get(geomprop_name) or self.doc.geompropdefs.get(geomprop_name)
+        if gp is None:
+            raise MtlxError((loc, "unknown defaultgeomprop '%s'" % geomprop_name))
+        if gp.name in self.geom_memo:
+            return self.geom_memo[gp.name]
+        category = gp.geomprop
+        inputs = {}
+        if gp.space:
+            inputs["space"] = gp.space
+        if category in ("texcoord", "geomcolor"):
+            inputs["index"] = gp.index
+        from .document import Node, Port
+        node = Node(category=category, name="geomprop_" + gp.name, type=gp.type, loc=loc)
+        for k, v in inputs.items():
+            t = "string" if k == "space" else "integer"
+            node.inputs[k] = Port(name=k, type=t, loc=loc, value=v, text=str(v))
+        if category not in self.lib.by_category:
+            node = Node(category="geompropvalue", name="geomprop_" + gp.name, type=gp.type, loc=loc)
+            node.inputs["geomprop"] = Port(name="geomprop", type="string", loc=loc, value=gp.geomprop, text=gp.geomprop)
+        sub = _Scope({node.name: node}, "", {}, False, None, None, loc)
+        outs = self.instantiate(node, sub)
+        src = next(iter(outs.values()))
+        self.geom_memo[gp.name] = src
+        return src
+
+    def instantiate(self, node, scope):
+        key = (id(scope), node.name)
+        if key in self.memo:
+            return self.memo[key]
+        if key in self.active:
+            raise MtlxError((node.loc, "cycle: node '%s' depends on itself" % node.name))
+        self.active.add(key)
+        try:
+            outs = self._instantiate(node, scope)
+        finally:
+            self.active.discard(key)
+        self.memo[key] = outs
+        return outs
+
+    def _instantiate(self, node, scope):
+        nd = self.nodedef_for(node)
+        for name, port in node.inputs.items():
+            if name not in nd.inputs:
+                raise MtlxError((port.loc, "node '%s' (%s) has no input '%s'" % (node.name, nd.name, name)))
+        stem = scope.prefix + node.name if scope.prefix and not scope.public else node.name
+        inputs, static = {}, {}
+        for name, decl in nd.inputs.items():
+            port = node.inputs.get(name)
+            src = None
+            if port is not None:
+                if port.type != decl.type:
+                    raise MtlxError((port.loc, "input '%s' of node '%s' has type %s; %s expects %s"
+                                     % (name, node.name, port.type, nd.name, decl.type)))
+                src = self.source_of_port(port, scope, decl.type, node.name)
+                if src is not None:
+                    self.check_type(port, src, "input '%s' of node '%s'" % (name, node.name))
+            if src is None and (port is None or port.value is None) and decl.defaultgeomprop:
+                src = self.geom_source(decl.defaultgeomprop, (port or decl).loc if port else node.loc, scope)
+            if src is None:
+                p = port if port is not None else decl
+                if scope.public or decl.type == "filename":
+                    src = self.public_value(stem, p, decl)
+                else:
+                    value = p.value if p.value is not None else decl.value
+                    if value is None:
+                        value = mxtypes.zero(decl.type, self.lib.structs)
+                    src = Source(decl.type, value=value, loc=p.loc,
+                                 colorspace=(p.colorspace or decl.colorspace) if decl.type == "filename" else None,
+                                 unit=p.unit or decl.unit, unittype=p.unittype or decl.unittype)
+            if decl.type in ("string", "geomname") and not src.linked:
+                static[name] = src.value
+            inputs[name] = src
+        impl_graph = self.lib.graph_impls.get(nd.name)
+        if impl_graph is not None and not self._has_leaf_impl(nd):
+            inner = _Scope(impl_graph.nodes, self.child_prefix(stem), inputs, False, impl_graph, scope, node.loc)
+            outs = {}
+            for oname, oport in impl_graph.outputs.items():
+                if oname not in nd.outputs:
+                    continue
+                src = self.source_of_port(oport, inner, oport.type, impl_graph.name)
+                if src is None:
+                    value = oport.value if oport.value is not None else mxtypes.zero(oport.type, self.lib.structs)
+                    src = Source(oport.type, value=value, loc=oport.loc)
+                outs[oname] = src
+            for oname, decl in nd.outputs.items():
+                if oname not in outs:
+                    raise MtlxError((impl_graph.loc, "nodegraph '%s' implements %s but has no output '%s'"
+                                     % (impl_graph.name, nd.name, oname)))
+            return outs
+        ident = self.new_id(stem)
+        g = GNode(id=ident, category=nd.category, nodedef=nd, inputs=inputs,
+                  outputs={o.name: o.type for o in nd.outputs.values()}, loc=node.loc, static=static)
+        self.nodes[ident] = g
+        self.order.append(ident)
+        return {oname: Source(t, node=ident, output=oname, loc=node.loc) for oname, t in g.outputs.items()}
+
+    def child_prefix(self, stem):
+        return stem + "_"
+
+    def _has_leaf_impl(self, nd):
+        from .nodes import has_leaf_implementation
+        return has_leaf_implementation(nd, self.lib)
+
+    # ---------- elements ----------
+    @property
+    def doc_scope(self):
+        if "_doc_scope" not in self.__dict__:
+            interface = {}
+            self._doc_scope = _Scope(self.doc.nodes, "", interface, True, None, None, None)
+        return self._doc_scope
+
+    def build(self, element):
+        """Build the Graph of one renderable element name path."""
+        kind, result = self._element_result(element)
+        if result.type == "material":
+            pass
+        # prune: keep only nodes reachable from the result
+        needed, stack = set(), [result]
+        while stack:
+            s = stack.pop()
+            if s.linked and s.node not in needed:
+                needed.add(s.node)
+                stack.extend(self.nodes[s.node].inputs.values())
+        nodes = [self.nodes[i] for i in self.order if i in needed]
+        used_uniforms = {s.uniform for n in nodes for s in n.inputs.values() if s.uniform}
+        if result.uniform:
+            used_uniforms.add(result.uniform)
+        uniforms = {k: u for k, u in self.uniforms.items() if k in used_uniforms}
+        return Graph(element=element, kind=kind, result=result, nodes=nodes, uniforms=uniforms,
+                     structs=self.lib.structs, doc_path=self.doc.path, library=self.lib)
+
+    def _element_result(self, element):
+        doc = self.doc
+        if "/" in element:
+            gname, oname = element.split("/", 1)
+            g = doc.nodegraphs.get(gname)
+            if g is None or oname not in g.outputs:
+                raise MtlxError((Loc(doc.path, 0), "no element '%s' in the document" % element))
+            return "output", self.graph_output(g, g.outputs[oname])
+        if element in doc.outputs:
+            port = doc.outputs[element]
+            src = self.source_of_port(port, self.doc_scope, port.type, element)
+            if src is None:
+                raise MtlxError((port.loc, "output '%s' is not connected" % element))
+            self.check_type(port, src, "output '%s'" % element)
+            return "output", src
+        node = doc.nodes.get(element)
+        if node is None:
+            raise MtlxError((Loc(doc.path, 0), "no element '%s' in the document" % element))
+        outs = self.instantiate(node, self.doc_scope)
+        src = outs.get("out") or next(iter(outs.values()))
+        if node.type == "material":
+            # a material renders its surface shader
+            shader = outs.get("out")
+            return "material", shader
+        return "shader", src
+
+
+def build_graph(doc, library, element):
+    return GraphBuilder(doc, library).build(element)
+
+
+SHADER_TYPES = ("surfaceshader", "volumeshader")
+
+
+def renderable_elements(doc):
+    """Name paths of what MaterialX's findRenderableElements returns for this document."""
+    materials = [n.name for n in doc.nodes.values() if n.type == "material"]
+    if materials:
+        return materials
+    shaders = [n.name for n in doc.nodes.values() if n.type in SHADER_TYPES]
+    if shaders:
+        return shaders
+    out = []
+    for g in doc.nodegraphs.values():
+        if g.nodedef:
+            continue
+        out += ["%s/%s" % (g.name, o) for o in g.outputs]
+    out += list(doc.outputs)
+    return out

@@ -1,0 +1,197 @@
+"""Data libraries: find them, load their nodedefs and nodegraph implementations, index them.
+
+Sources, in order: the `materialx` wheel's MaterialX/libraries (stdlib, pbrlib, bxdf, cmlib, lights,
+nprlib; never its gen* folders: we read definitions, not MaterialX's shader code), mtlxgen's own
+library (glsl_lib/*.mtlx), directories in MATERIALX_SEARCH_PATH, and directories given with --library.
+Parsed libraries are cached (pickle keyed by every file's path, size and mtime) so a warm load is fast.
+"""
+import hashlib
+import os
+import pickle
+from dataclasses import dataclass, field
+
+from . import __version__, document
+from .diagnostics import MtlxError
+
+LIBRARY_FOLDERS = ("stdlib", "pbrlib", "bxdf", "cmlib", "lights", "nprlib")
+
+
+def materialx_library_root():
+    """MaterialX/libraries of the installed wheel, or None."""
+    try:
+        import importlib.util
+        spec = importlib.util.find_spec("MaterialX")
+    except (ImportError, ValueError):
+        return None
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    for loc in spec.submodule_search_locations:
+        cand = os.path.join(loc, "libraries")
+        if os.path.isdir(cand):
+            return cand
+    return None
+
+
+def glsl_lib_root():
+    """Our GLSL library: glsl_lib/ beside the package in a checkout, or installed as package data."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for cand in (os.path.join(os.path.dirname(here), "glsl_lib"), os.path.join(here, "glsl_lib")):
+        if os.path.isdir(cand):
+            return cand
+    raise RuntimeError("glsl_lib not found next to the mtlxgen package")
+
+
+def _mtlx_files(root, folders=None):
+    out = []
+    tops = [os.path.join(root, f) for f in folders] if folders else [root]
+    for top in tops:
+        for dp, dns, fs in os.walk(top):
+            dns[:] = sorted(d for d in dns if not d.startswith("gen") and d != "targets")
+            out.extend(os.path.join(dp, f) for f in sorted(fs) if f.endswith(".mtlx"))
+    return out
+
+
+def library_files(extra_dirs=()):
+    files = []
+    mx_root = materialx_library_root()
+    if mx_root:
+        files += _mtlx_files(mx_root, LIBRARY_FOLDERS)
+    files += _mtlx_files(glsl_lib_root())
+    env = os.environ.get("MATERIALX_SEARCH_PATH", "")
+    for d in [p for p in env.split(os.pathsep) if p] + list(extra_dirs):
+        if os.path.isdir(d):
+            files += _mtlx_files(d)
+        elif os.path.isfile(d):
+            files.append(d)
+    seen, unique = set(), []
+    for f in files:
+        a = os.path.abspath(f)
+        if a not in seen:
+            seen.add(a)
+            unique.append(a)
+    return unique
+
+
+@dataclass
+class Library:
+    nodedefs: dict = field(default_factory=dict)        # name -> NodeDef (inheritance flattened)
+    by_category: dict = field(default_factory=dict)     # category -> [NodeDef] in load order
+    graph_impls: dict = field(default_factory=dict)     # nodedef name -> NodeGraph implementing it
+    nodegraphs: dict = field(default_factory=dict)      # every library nodegraph by name
+    implementations: dict = field(default_factory=dict)  # nodedef name -> Implementation (genglsl / untargeted)
+    geompropdefs: dict = field(default_factory=dict)
+    unitdefs: dict = field(default_factory=dict)
+    structs: dict = field(default_factory=dict)
+    files: list = field(default_factory=list)
+
+    def add_document(self, doc, overlay=False):
+        self.structs.update(doc.structs)
+        self.geompropdefs.update(doc.geompropdefs)
+        for unittype, units in doc.unitdefs.items():
+            self.unitdefs.setdefault(unittype, {}).update(units)
+        for nd in doc.nodedefs.values():
+            if nd.name in self.nodedefs:
+                old = self.nodedefs[nd.name]
+                self.by_category[old.category] = [d for d in self.by_category[old.category] if d.name != nd.name]
+            self.nodedefs[nd.name] = nd
+            lst = self.by_category.setdefault(nd.category, [])
+            if overlay:
+                lst.insert(0, nd)       # a document's own definitions win over the library's
+            else:
+                lst.append(nd)
+        for g in doc.nodegraphs.values():
+            self.nodegraphs[g.name] = g
+            if g.nodedef:
+                self.graph_impls[g.nodedef] = g
+        for impl in doc.implementations.values():
+            if impl.target not in (None, "", "genglsl"):
+                continue
+            if impl.nodedef:
+                if impl.nodegraph and impl.nodegraph in self.nodegraphs:
+                    self.graph_impls[impl.nodedef] = self.nodegraphs[impl.nodegraph]
+                else:
+                    self.implementations[impl.nodedef] = impl
+
+    def flatten_inheritance(self):
+        for nd in self.nodedefs.values():
+            chain, cur, seen = [], nd, set()
+            while cur.inherit and cur.inherit in self.nodedefs and cur.inherit not in seen:
+                seen.add(cur.inherit)
+                cur = self.nodedefs[cur.inherit]
+                chain.append(cur)
+            for parent in chain:
+                merged = dict(parent.inputs)
+                merged.update(nd.inputs)
+                nd.inputs = merged
+                for k, v in parent.outputs.items():
+                    nd.outputs.setdefault(k, v)
+            nd.inherit = None
+
+    def overlay(self, doc):
+        """A new Library: this one plus the definitions a document declares itself."""
+        if not (doc.nodedefs or doc.implementations or doc.structs or doc.unitdefs or doc.geompropdefs
+                or any(g.nodedef for g in doc.nodegraphs.values())):
+            return self
+        lib = Library(nodedefs=dict(self.nodedefs), by_category={k: list(v) for k, v in self.by_category.items()},
+                      graph_impls=dict(self.graph_impls), nodegraphs=dict(self.nodegraphs),
+                      implementations=dict(self.implementations), geompropdefs=dict(self.geompropdefs),
+                      unitdefs={k: dict(v) for k, v in self.unitdefs.items()}, structs=dict(self.structs),
+                      files=self.files)
+        lib.add_document(doc, overlay=True)
+        lib.flatten_inheritance()
+        return lib
+
+
+def _source_of(path):
+    parts = os.path.normpath(path).split(os.sep)
+    for f in LIBRARY_FOLDERS:
+        if f in parts:
+            return f
+    return "mtlxgen" if "glsl_lib" in parts else "user"
+
+
+def _cache_path(files):
+    h = hashlib.sha256(__version__.encode())
+    for f in files:
+        st = os.stat(f)
+        h.update(("%s|%d|%d\n" % (f, st.st_size, st.st_mtime_ns)).encode())
+    base = os.environ.get("MTLXGEN_CACHE") or os.path.join(os.path.expanduser("~"), ".cache", "mtlxgen")
+    return os.path.join(base, "library-%s.pickle" % h.hexdigest()[:24])
+
+
+_MEMO = {}
+
+
+def load_library(extra_dirs=(), use_cache=True):
+    """Load every data library. Raises MtlxError if a library file is broken."""
+    files = library_files(extra_dirs)
+    if not files:
+        raise MtlxError((None, "no MaterialX data libraries found: install the 'materialx' wheel or set "
+                               "MATERIALX_SEARCH_PATH"))
+    key = tuple(files)
+    if key in _MEMO:
+        return _MEMO[key]
+    cache = _cache_path(files) if use_cache else None
+    if cache and os.path.exists(cache):
+        try:
+            with open(cache, "rb") as f:
+                lib = pickle.load(f)
+            _MEMO[key] = lib
+            return lib
+        except Exception:
+            pass
+    lib = Library(files=files)
+    for path in files:
+        lib.add_document(document.load(path, source=_source_of(path)))
+    lib.flatten_inheritance()
+    if cache:
+        try:
+            os.makedirs(os.path.dirname(cache), exist_ok=True)
+            tmp = cache + ".%d.tmp" % os.getpid()
+            with open(tmp, "wb") as f:
+                pickle.dump(lib, f, protocol=pickle.HIGHEST_PROTOCOL)
+            os.replace(tmp, cache)
+        except OSError:
+            pass
+    _MEMO[key] = lib
+    return lib

@@ -1,0 +1,238 @@
+"""MaterialX data types: their GLSL spelling, value parsing and GLSL literals.
+
+Plain tables: one row per type. Struct types declared with <typedef> are added per document.
+"""
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class TypeInfo:
+    name: str
+    glsl: str            # GLSL type spelling ("" where the type has no run-time value, e.g. string)
+    size: int = 1        # number of scalar components (0 for non-numeric)
+    scalar: str = ""     # "float", "int", "bool", "string" or "" for closures / structs
+    closure: bool = False
+
+
+_ROWS = [
+    # name, glsl, size, scalar
+    ("float", "float", 1, "float"),
+    ("integer", "int", 1, "int"),
+    ("boolean", "bool", 1, "bool"),
+    ("color3", "vec3", 3, "float"),
+    ("color4", "vec4", 4, "float"),
+    ("vector2", "vec2", 2, "float"),
+    ("vector3", "vec3", 3, "float"),
+    ("vector4", "vec4", 4, "float"),
+    ("matrix33", "mat3", 9, "float"),
+    ("matrix44", "mat4", 16, "float"),
+    ("string", "int", 1, "string"),       # enum strings become int constants where they reach GLSL
+    ("filename", "sampler2D", 1, "string"),
+    ("geomname", "", 1, "string"),
+    ("integerarray", "int[]", 0, "int"),
+    ("floatarray", "float[]", 0, "float"),
+    ("color3array", "vec3[]", 0, "float"),
+    ("color4array", "vec4[]", 0, "float"),
+    ("vector2array", "vec2[]", 0, "float"),
+    ("vector3array", "vec3[]", 0, "float"),
+    ("vector4array", "vec4[]", 0, "float"),
+    ("stringarray", "", 0, "string"),
+    ("geomnamearray", "", 0, "string"),
+]
+_CLOSURES = ["BSDF", "EDF", "VDF", "surfaceshader", "volumeshader", "displacementshader", "lightshader", "material"]
+
+BUILTIN = {n: TypeInfo(n, g, s, sc) for n, g, s, sc in _ROWS}
+BUILTIN.update({n: TypeInfo(n, n if n != "material" else "surfaceshader", 0, "", True) for n in _CLOSURES})
+BUILTIN["none"] = TypeInfo("none", "", 0, "")
+BUILTIN["multioutput"] = TypeInfo("multioutput", "", 0, "")
+
+ARRAY_ELEMENT = {"integerarray": "integer", "floatarray": "float", "color3array": "color3", "color4array": "color4",
+                 "vector2array": "vector2", "vector3array": "vector3", "vector4array": "vector4",
+                 "stringarray": "string", "geomnamearray": "geomname"}
+
+
+@dataclass
+class StructType:
+    """A <typedef> with <member>s: a GLSL struct of the same name."""
+    name: str
+    members: list = field(default_factory=list)   # [(name, type, default value string or None)]
+
+
+def is_closure(type_name):
+    info = BUILTIN.get(type_name)
+    return bool(info and info.closure)
+
+
+def glsl_type(type_name, structs=None):
+    if type_name in BUILTIN:
+        return BUILTIN[type_name].glsl
+    if structs and type_name in structs:
+        return type_name
+    raise KeyError(type_name)
+
+
+def components(type_name):
+    info = BUILTIN.get(type_name)
+    return info.size if info else 0
+
+
+class ValueError_(ValueError):
+    pass
+
+
+def _floats(text, count):
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != count:
+        raise ValueError_("expected %d comma-separated numbers, got %d in %r" % (count, len(parts), text))
+    try:
+        return tuple(float(p) for p in parts)
+    except ValueError:
+        raise ValueError_("not a number in %r" % text) from None
+
+
+def _int(text):
+    try:
+        return int(text.strip())
+    except ValueError:
+        try:
+            f = float(text)
+        except ValueError:
+            raise ValueError_("not an integer: %r" % text) from None
+        if f != int(f):
+            raise ValueError_("not an integer: %r" % text) from None
+        return int(f)
+
+
+def _bool(text):
+    t = text.strip().lower()
+    if t in ("true", "1"):
+        return True
+    if t in ("false", "0"):
+        return False
+    raise ValueError_("not a boolean: %r" % text)
+
+
+def parse_value(type_name, text, structs=None):
+    """Value string of a MaterialX type -> Python value.
+
+    float -> float; integer -> int; boolean -> bool; colorN/vectorN/matrixNN -> tuple of floats
+    (matrices row by row, as written); string/filename -> str; arrays -> tuple; structs -> tuple of
+    member values. Raises ValueError_ with a message for text that does not fit the type.
+    """
+    if text is None:
+        return None
+    if type_name == "float":
+        try:
+            return float(text)
+        except ValueError:
+            raise ValueError_("not a number: %r" % text) from None
+    if type_name == "integer":
+        return _int(text)
+    if type_name == "boolean":
+        return _bool(text)
+    if type_name in ("string", "filename", "geomname"):
+        return text
+    info = BUILTIN.get(type_name)
+    if info and info.size > 1:
+        return _floats(text, info.size)
+    if type_name in ARRAY_ELEMENT:
+        if not text.strip():
+            return ()
+        element = ARRAY_ELEMENT[type_name]
+        if element in ("string", "geomname"):
+            return tuple(p.strip() for p in text.split(","))
+        size = components(element)
+        parts = [p.strip() for p in text.split(",")]
+        if len(parts) % size:
+            raise ValueError_("%s needs a multiple of %d numbers, got %d" % (type_name, size, len(parts)))
+        conv = _int if element == "integer" else float
+        try:
+            vals = [conv(p) for p in parts]
+        except ValueError:
+            raise ValueError_("not a number in %r" % text) from None
+        if size == 1:
+            return tuple(vals)
+        return tuple(tuple(vals[i:i + size]) for i in range(0, len(vals), size))
+    if structs and type_name in structs:
+        # struct values are written as a ';'-separated list of member values
+        members = structs[type_name].members
+        parts = text.strip().strip("{}").split(";")
+        if len(parts) != len(members):
+            raise ValueError_("struct %s has %d members, value %r has %d" % (type_name, len(members), text, len(parts)))
+        return tuple(parse_value(mt, p.strip(), structs) for (_, mt, _), p in zip(members, parts))
+    if info is not None:   # closures and "none" carry no value
+        return None
+    raise ValueError_("unknown type %r" % type_name)
+
+
+def format_float(x):
+    """Shortest GLSL float literal that round-trips to the same double (always with a '.' or exponent)."""
+    x = float(x)
+    if x != x or x in (float("inf"), float("-inf")):
+        raise ValueError_("non-finite value %r" % x)
+    s = repr(x)
+    if "e" in s or "E" in s:
+        mant, exp = s.lower().split("e")
+        if "." not in mant:
+            mant += ".0"
+        return "%se%d" % (mant, int(exp))
+    return s
+
+
+def glsl_literal(type_name, value, structs=None):
+    """Python value -> GLSL constant expression of the type's GLSL spelling."""
+    if type_name == "float":
+        return format_float(value)
+    if type_name == "integer":
+        return str(int(value))
+    if type_name == "boolean":
+        return "true" if value else "false"
+    info = BUILTIN.get(type_name)
+    if info and info.size > 1:
+        return "%s(%s)" % (info.glsl, ", ".join(format_float(v) for v in value))
+    if type_name in ARRAY_ELEMENT and ARRAY_ELEMENT[type_name] not in ("string", "geomname"):
+        element = ARRAY_ELEMENT[type_name]
+        items = [glsl_literal(element, v) for v in value] or [glsl_literal(element, zero(element))]
+        return "%s[%d](%s)" % (glsl_type(element), len(items), ", ".join(items))
+    if structs and type_name in structs:
+        members = structs[type_name].members
+        return "%s(%s)" % (type_name, ", ".join(glsl_literal(mt, v, structs) for (_, mt, _), v in zip(members, value)))
+    raise ValueError_("type %s has no GLSL literal" % type_name)
+
+
+def zero(type_name, structs=None):
+    """The default value a type takes when nothing sets it."""
+    if type_name == "float":
+        return 0.0
+    if type_name == "integer":
+        return 0
+    if type_name == "boolean":
+        return False
+    info = BUILTIN.get(type_name)
+    if info and type_name in ("matrix33", "matrix44"):
+        n = 3 if type_name == "matrix33" else 4
+        return tuple(1.0 if i == j else 0.0 for i in range(n) for j in range(n))
+    if info and info.size > 1:
+        return (0.0,) * info.size
+    if type_name in ("string", "filename", "geomname"):
+        return ""
+    if type_name in ARRAY_ELEMENT:
+        return ()
+    if structs and type_name in structs:
+        return tuple(parse_value(mt, d, structs) if d is not None else zero(mt, structs)
+                     for _, mt, d in structs[type_name].members)
+    return None
+
+
+def closure_zero(type_name):
+    """GLSL expression of an empty closure value."""
+    return {
+        "BSDF": "BSDF(vec3(0.0), vec3(1.0))",
+        "EDF": "vec3(0.0)",
+        "VDF": "VDF(vec3(0.0), vec3(1.0))",
+        "surfaceshader": "surfaceshader(vec3(0.0), vec3(0.0))",
+        "material": "surfaceshader(vec3(0.0), vec3(0.0))",
+        "volumeshader": "volumeshader(vec3(0.0), vec3(0.0))",
+        "displacementshader": "displacementshader(vec3(0.0), 1.0)",
+        "lightshader": "lightshader(vec3(0.0), vec3(0.0))",
+    }[type_name]

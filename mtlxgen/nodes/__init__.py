@@ -1,0 +1,76 @@
+"""Node implementations as data.
+
+Each library module here (stdlib_math, stdlib_channel, ...) declares a table `NODES` keyed by node
+category: one entry serves every type of that category. An entry is either a GLSL expression
+template (str), or a dict with:
+    "expr":    template of the single output           (or)
+    "outputs": {output name: template} for multi-output nodes
+    "files":   GLSL files under glsl_lib/ the templates call into (each emitted once)
+    "handler": name of a function in handlers.py, for the few nodes that need code
+An optional `NODEDEFS` table keyed by nodedef name overrides the category entry for one signature.
+
+Template fields (MaterialX's inline syntax, extended):
+    {{in1}}        the GLSL expression of input in1
+    {{=index}}     the compile-time value of a uniform input (error if it is connected)
+    {{@name}}      a geometric stream from the vertex stage (see streams.py)
+    {{$type}}      the GLSL type of the (single) output; {{$type:in1}} that of an input
+Nodedefs implemented by nodegraphs in the data libraries need no entry: the graph is expanded.
+"""
+from dataclasses import dataclass, field
+
+from . import (stdlib_adjustment, stdlib_channel, stdlib_conditional, stdlib_geometric, stdlib_math,
+               stdlib_organization, stdlib_shader)
+
+_MODULES = [stdlib_math, stdlib_adjustment, stdlib_channel, stdlib_conditional, stdlib_geometric,
+            stdlib_organization, stdlib_shader]
+
+
+@dataclass(frozen=True)
+class Impl:
+    outputs: dict = field(default_factory=dict)   # output name ("*" = the single output) -> template
+    files: tuple = ()
+    handler: str = None
+    external: tuple = None                        # (GLSL file path, function) from a document's <implementation>
+    origin: str = "mtlxgen"
+
+
+def _normalize(entry, origin):
+    if isinstance(entry, str):
+        return Impl(outputs={"*": entry}, origin=origin)
+    outputs = dict(entry.get("outputs", {}))
+    if "expr" in entry:
+        outputs["*"] = entry["expr"]
+    return Impl(outputs=outputs, files=tuple(entry.get("files", ())), handler=entry.get("handler"), origin=origin)
+
+
+BY_CATEGORY, BY_NODEDEF = {}, {}
+for _m in _MODULES:
+    for _k, _v in getattr(_m, "NODES", {}).items():
+        if _k in BY_CATEGORY:
+            raise RuntimeError("node category %s is declared twice (%s)" % (_k, _m.__name__))
+        BY_CATEGORY[_k] = _normalize(_v, _m.__name__)
+    for _k, _v in getattr(_m, "NODEDEFS", {}).items():
+        BY_NODEDEF[_k] = _normalize(_v, _m.__name__)
+
+
+def lookup(nodedef, library):
+    """The GLSL implementation of a nodedef, or None where it has none (but maybe a nodegraph)."""
+    if nodedef.name in BY_NODEDEF:
+        return BY_NODEDEF[nodedef.name]
+    doc_impl = library.implementations.get(nodedef.name)
+    if doc_impl is not None and nodedef.source in ("document", "user"):
+        if doc_impl.sourcecode is not None:
+            return Impl(outputs={"*": doc_impl.sourcecode}, origin="document")
+        if doc_impl.file and doc_impl.function:
+            return Impl(external=(doc_impl.file, doc_impl.function, doc_impl.loc), origin="document")
+    if nodedef.name in library.graph_impls:
+        return None
+    return BY_CATEGORY.get(nodedef.category)
+
+
+def has_leaf_implementation(nodedef, library):
+    if nodedef.name in BY_NODEDEF:
+        return True
+    doc_impl = library.implementations.get(nodedef.name)
+    return doc_impl is not None and nodedef.source in ("document", "user") and bool(
+        doc_impl.sourcecode is not None or (doc_impl.file and doc_impl.function))

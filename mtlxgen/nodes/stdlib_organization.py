@@ -1,0 +1,10 @@
+"""stdlib organisation, constants, materials and application nodes."""
+
+NODES = {
+    "dot": "{{in}}",
+    "constant": "{{value}}",
+    "surfacematerial": "{{surfaceshader}}",
+    "volumematerial": "{{volumeshader}}",
+    "time": {"expr": "mg_time({{fps}})", "files": ["stdlib/application/time.glsl"]},
+    "frame": {"expr": "mg_frame()", "files": ["stdlib/application/time.glsl"]},
+}
