@@ -40,6 +40,7 @@ class Port:
     enum: str = None
     enumvalues: str = None
     channels: str = None            # 1.38 swizzle on inputs (upgraded away)
+    error: str = None               # a value that does not parse: reported where the port is used
 
     @property
     def connected(self):
@@ -170,7 +171,7 @@ class _Builder:
             try:
                 p.value = mxtypes.parse_value(p.type, text, self.doc.structs)
             except mxtypes.ValueError_ as e:
-                self.problems.add(el.loc, "%s '%s' of type %s: %s" % (kind, name, p.type, e))
+                p.error = "%s '%s' of type %s: %s" % (kind, name, p.type, e)
         if p.type == "filename" and p.colorspace is None:
             p.colorspace = ctx.get("colorspace")
         return p

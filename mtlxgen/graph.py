@@ -169,6 +169,8 @@ class GraphBuilder:
     # ---------- sources ----------
     def source_of_port(self, port, scope, want_type, owner):
         """The Source feeding `port` (an input of a node, or an output) in `scope`."""
+        if port.error and not port.connected:
+            raise MtlxError((port.loc, port.error))
         if port.interfacename:
             src = scope.interface.get(port.interfacename)
             if src is None:
@@ -306,6 +308,8 @@ class GraphBuilder:
                 src = self.geom_source(decl.defaultgeomprop, (port or decl).loc if port else node.loc, scope)
             if src is None:
                 p = port if port is not None else decl
+                if p.error:
+                    raise MtlxError((p.loc, p.error))
                 if scope.public or decl.type == "filename":
                     src = self.public_value(stem, p, decl)
                 else:

@@ -16,13 +16,13 @@ Template fields (MaterialX's inline syntax, extended):
     {{$type}}      the GLSL type of the (single) output; {{$type:in1}} that of an input
 Nodedefs implemented by nodegraphs in the data libraries need no entry: the graph is expanded.
 """
+import importlib
+import pkgutil
 from dataclasses import dataclass, field
 
-from . import (stdlib_adjustment, stdlib_channel, stdlib_conditional, stdlib_geometric, stdlib_math,
-               stdlib_organization, stdlib_shader)
-
-_MODULES = [stdlib_math, stdlib_adjustment, stdlib_channel, stdlib_conditional, stdlib_geometric,
-            stdlib_organization, stdlib_shader]
+# every table module in this package (all but handlers), in name order
+_MODULES = [importlib.import_module("%s.%s" % (__name__, m.name)) for m in sorted(
+    pkgutil.iter_modules(__path__), key=lambda m: m.name) if m.name != "handlers"]
 
 
 @dataclass(frozen=True)

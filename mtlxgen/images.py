@@ -1,0 +1,53 @@
+"""Image files through OpenImageIO: linear float arrays in, PNG (sRGB 8-bit) and EXR (linear) out."""
+import os
+
+import numpy as np
+
+from .diagnostics import Loc, MtlxError
+
+
+def srgb_encode(linear):
+    c = np.clip(linear, 0.0, None)
+    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1.0 / 2.4) - 0.055)
+
+
+def to_srgb8(img):
+    """Linear RGB(A) float image -> sRGB 8-bit RGB(A) (alpha stays linear)."""
+    out = np.array(img, dtype=np.float64, copy=True)
+    out[..., :3] = srgb_encode(out[..., :3])
+    return (np.clip(out, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
+
+
+def read_image(path):
+    """Image file -> float32 array (rows top first, channels last). Raises MtlxError if unreadable."""
+    import OpenImageIO as oiio
+    buf = oiio.ImageBuf(path)
+    if buf.has_error:
+        raise MtlxError((Loc(path, 0), "cannot read image: %s" % buf.geterror().strip()))
+    px = buf.get_pixels(oiio.FLOAT)
+    if px is None or buf.has_error:
+        raise MtlxError((Loc(path, 0), "cannot read image: %s" % buf.geterror().strip()))
+    px = np.asarray(px, dtype=np.float32)
+    if px.ndim == 2:
+        px = px[..., None]
+    return px
+
+
+def write_image(path, img):
+    """Write a linear float image: .png/.jpg as sRGB 8-bit, .exr/.hdr as linear half/float."""
+    import OpenImageIO as oiio
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    img = np.ascontiguousarray(img)
+    h, w, c = img.shape
+    ext = os.path.splitext(path)[1].lower()
+    if ext in (".exr", ".hdr"):
+        spec = oiio.ImageSpec(w, h, c, oiio.HALF if ext == ".exr" else oiio.FLOAT)
+        data = img.astype(np.float32)
+    else:
+        spec = oiio.ImageSpec(w, h, c, oiio.UINT8)
+        data = img if img.dtype == np.uint8 else to_srgb8(img)
+    buf = oiio.ImageBuf(spec)
+    buf.set_pixels(oiio.ROI(), np.ascontiguousarray(data))
+    if not buf.write(path):
+        raise MtlxError((Loc(path, 0), "cannot write image: %s" % buf.geterror().strip()))
+    return path

@@ -1,0 +1,239 @@
+"""Headless render harness: a sphere lit by a lat-long environment, drawn with moderngl.
+
+Scene (fixed, deterministic): unit sphere at the origin with positions, normals, tangents,
+bitangents and texcoords; camera at (0, 0, 3) looking at the origin, 45 degree vertical fov; a
+built-in HDR sky (or any HDR/EXR file) bound as u_envRadiance with a full mip chain and its
+irradiance (order-2 spherical harmonics, computed with numpy) as u_envIrradiance. Rendering is
+into a float framebuffer; the result is linear RGBA with row 0 at the top.
+"""
+import os
+import time
+
+import numpy as np
+
+from .images import read_image, write_image  # noqa: F401  (re-exported for the CLI)
+
+SIZE = 256
+EYE = (0.0, 0.0, 3.0)
+FOV_Y = 45.0
+ENV_SAMPLES = 64
+
+
+def create_context():
+    """A headless OpenGL 4 context: EGL first (Mesa llvmpipe on CPU machines), then X11 when a display exists."""
+    import moderngl
+    errors = []
+    backends = ["egl"] + (["x11"] if os.environ.get("DISPLAY") else [])
+    for backend in backends:
+        try:
+            return moderngl.create_standalone_context(backend=backend, require=400)
+        except Exception as e:  # try the next backend
+            errors.append("%s: %s" % (backend, str(e).strip().splitlines()[-1] if str(e).strip() else e))
+    raise RuntimeError("no headless OpenGL 4 context (%s); install Mesa's EGL (libegl1, libgl1-mesa-dri)"
+                       % "; ".join(errors))
+
+
+def sphere(n_lon=128, n_lat=64):
+    """Unit UV sphere, y up. u runs once around the equator, v from the bottom pole (0) to the top (1)."""
+    u = np.linspace(0.0, 1.0, n_lon + 1)
+    v = np.linspace(0.0, 1.0, n_lat + 1)
+    uu, vv = np.meshgrid(u, v)
+    phi = uu * 2.0 * np.pi
+    theta = vv * np.pi
+    sin_t = np.sin(theta)
+    pos = np.stack([sin_t * np.cos(phi), -np.cos(theta), -sin_t * np.sin(phi)], -1).reshape(-1, 3)
+    tangent = np.stack([-np.sin(phi), np.zeros_like(phi), -np.cos(phi)], -1).reshape(-1, 3)
+    bitangent = np.cross(pos, tangent)
+    uv = np.stack([uu, vv], -1).reshape(-1, 2)
+    i = np.arange(n_lat)[:, None] * (n_lon + 1) + np.arange(n_lon)[None, :]
+    a, b, c, d = i, i + 1, i + n_lon + 1, i + n_lon + 2
+    index = np.stack([a, b, d, a, d, c], -1).reshape(-1).astype("i4")
+    f4 = lambda x: np.ascontiguousarray(x, dtype="f4")
+    return {"i_position": f4(pos), "i_normal": f4(pos), "i_tangent": f4(tangent),
+            "i_bitangent": f4(bitangent), "i_texcoord_0": f4(uv)}, index
+
+
+def perspective(fov_y, aspect, near, far):
+    f = 1.0 / np.tan(np.radians(fov_y) / 2.0)
+    m = np.zeros((4, 4))
+    m[0, 0], m[1, 1] = f / aspect, f
+    m[2, 2], m[2, 3] = (far + near) / (near - far), 2.0 * far * near / (near - far)
+    m[3, 2] = -1.0
+    return m
+
+
+def look_at(eye, target, up):
+    eye, target, up = (np.asarray(x, dtype=float) for x in (eye, target, up))
+    fwd = target - eye
+    fwd /= np.linalg.norm(fwd)
+    side = np.cross(fwd, up)
+    side /= np.linalg.norm(side)
+    m = np.eye(4)
+    m[0, :3], m[1, :3], m[2, :3] = side, np.cross(side, fwd), -fwd
+    m[:3, 3] = -m[:3, :3] @ eye
+    return m
+
+
+def builtin_sky(width=512, height=256):
+    """Deterministic HDR lat-long sky (row 0 = top): horizon-to-zenith blue, warm ground, a sun disc."""
+    v = (np.arange(height) + 0.5) / height
+    u = (np.arange(width) + 0.5) / width
+    uu, vv = np.meshgrid(u, v)
+    elevation = (0.5 - vv) * np.pi
+    azimuth = (uu - 0.5) * 2.0 * np.pi
+    # direction per the lat-long convention of interface.md: u = atan(x, -z) / 2pi + 0.5, v = -asin(y)/pi + 0.5
+    d = np.stack([np.cos(elevation) * np.sin(azimuth), np.sin(elevation), -np.cos(elevation) * np.cos(azimuth)], -1)
+    up = np.clip(d[..., 1:2], 0.0, 1.0)
+    zenith, horizon = np.array([0.18, 0.32, 0.85]), np.array([0.75, 0.82, 0.95])
+    sky = horizon + (zenith - horizon) * np.sqrt(up)
+    ground = np.array([0.22, 0.18, 0.14]) * (1.0 - 0.5 * np.clip(-d[..., 1:2], 0.0, 1.0))
+    img = np.where(d[..., 1:2] >= 0.0, sky, ground)
+    sun_dir = np.array([0.45, 0.55, 0.70])
+    sun_dir /= np.linalg.norm(sun_dir)
+    cos_sun = (d * sun_dir).sum(-1, keepdims=True)
+    disc = np.clip((cos_sun - np.cos(np.radians(6.0))) / (1.0 - np.cos(np.radians(6.0))), 0.0, 1.0)
+    img = img + 20.0 * disc ** 1.5 * np.array([1.0, 0.93, 0.82])
+    return img.astype(np.float32)
+
+
+def _latlong_directions(width, height):
+    v = (np.arange(height) + 0.5) / height
+    u = (np.arange(width) + 0.5) / width
+    uu, vv = np.meshgrid(u, v)
+    el, az = (0.5 - vv) * np.pi, (uu - 0.5) * 2.0 * np.pi
+    d = np.stack([np.cos(el) * np.sin(az), np.sin(el), -np.cos(el) * np.cos(az)], -1)
+    solid_angle = np.cos(el) * (np.pi / height) * (2.0 * np.pi / width)
+    return d, solid_angle
+
+
+def _sh9(d):
+    x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    return np.stack([0.282095 * np.ones_like(x), 0.488603 * y, 0.488603 * z, 0.488603 * x,
+                     1.092548 * x * y, 1.092548 * y * z, 0.315392 * (3 * z * z - 1), 1.092548 * x * z,
+                     0.546274 * (x * x - y * y)], -1)
+
+
+def irradiance_map(env, width=128, height=64):
+    """Irradiance E(n)/pi of a lat-long radiance map, from its order-2 spherical-harmonic projection
+    (Ramamoorthi & Hanrahan 2001, "An Efficient Representation for Irradiance Environment Maps")."""
+    h, w = env.shape[:2]
+    d, sa = _latlong_directions(w, h)
+    coeffs = np.einsum("hwk,hwc,hw->kc", _sh9(d), env[..., :3].astype(np.float64), sa)
+    band = np.array([np.pi, 2 * np.pi / 3, 2 * np.pi / 3, 2 * np.pi / 3, np.pi / 4, np.pi / 4, np.pi / 4,
+                     np.pi / 4, np.pi / 4])
+    dn, _ = _latlong_directions(width, height)
+    irr = np.einsum("hwk,kc->hwc", _sh9(dn), coeffs * band[:, None]) / np.pi
+    return np.clip(irr, 0.0, None).astype(np.float32)
+
+
+def load_environment(path):
+    img = read_image(path)
+    if img.shape[2] == 1:
+        img = np.repeat(img, 3, axis=2)
+    return img[..., :3]
+
+
+class Renderer:
+    """One GL context, one sphere, one environment; renders Shader objects (or vertex/fragment pairs)."""
+
+    def __init__(self, size=SIZE, environment=None, env_samples=ENV_SAMPLES):
+        import moderngl
+        self.mgl = moderngl
+        self.ctx = create_context()
+        self.size = size
+        self.env_samples = env_samples
+        self.fbo = self.ctx.framebuffer(color_attachments=[self.ctx.texture((size, size), 4, dtype="f4")],
+                                        depth_attachment=self.ctx.depth_renderbuffer((size, size)))
+        attrs, index = sphere()
+        self.buffers = {k: (self.ctx.buffer(v.tobytes()), "%df" % v.shape[1]) for k, v in attrs.items()}
+        self.index = self.ctx.buffer(index.tobytes())
+        env = builtin_sky() if environment is None else np.asarray(environment, dtype=np.float32)
+        self.env = self._float_texture(env, mipmaps=True)
+        self.env_mips = int(np.floor(np.log2(max(env.shape[:2])))) + 1
+        self.irradiance = self._float_texture(irradiance_map(env), mipmaps=False)
+        self._image_cache = {}
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def close(self):
+        if self.ctx is not None:
+            self.ctx.release()
+            self.ctx = None
+
+    def _float_texture(self, img, mipmaps):
+        img = np.ascontiguousarray(img[::-1], dtype="f4")       # bottom row first (OpenGL order)
+        t = self.ctx.texture((img.shape[1], img.shape[0]), img.shape[2], img.tobytes(), dtype="f4")
+        if mipmaps:
+            t.build_mipmaps()
+            t.filter = (self.mgl.LINEAR_MIPMAP_LINEAR, self.mgl.LINEAR)
+        else:
+            t.filter = (self.mgl.LINEAR, self.mgl.LINEAR)
+        return t
+
+    def image_texture(self, path):
+        if path not in self._image_cache:
+            try:
+                self._image_cache[path] = self._float_texture(read_image(path), mipmaps=True)
+            except Exception:
+                self._image_cache[path] = None
+        return self._image_cache[path]
+
+    def render(self, shader, textures=None):
+        """Render a Shader (or a (vertex, fragment) pair). Returns linear RGBA float32, row 0 on top."""
+        if isinstance(shader, tuple):
+            vertex, fragment, manifest = shader[0], shader[1], {}
+        else:
+            vertex, fragment, manifest = shader.vertex, shader.fragment, shader.manifest
+        img, _ = self.render_timed(vertex, fragment, manifest, textures)
+        return img
+
+    def render_timed(self, vertex, fragment, manifest=None, textures=None):
+        ctx = self.ctx
+        t0 = time.perf_counter()
+        prog = ctx.program(vertex_shader=vertex, fragment_shader=fragment)
+        t1 = time.perf_counter()
+        try:
+            bound = {}
+            for tex in (manifest or {}).get("textures", []):
+                bound[tex["uniform"]] = tex.get("file")
+            bound.update(textures or {})
+            units = [("u_envRadiance", self.env), ("u_envIrradiance", self.irradiance)]
+            for name, path in sorted(bound.items()):
+                t = self.image_texture(path) if path else None
+                if t is not None:
+                    units.append((name, t))
+            for unit, (name, t) in enumerate(units):
+                if name in prog:
+                    t.use(unit)
+                    prog[name].value = unit
+            content = [(buf, fmt, name) for name, (buf, fmt) in self.buffers.items() if name in prog]
+            vao = ctx.vertex_array(prog, content, self.index)
+            view_proj = perspective(FOV_Y, 1.0, 0.1, 100.0) @ look_at(EYE, (0, 0, 0), (0, 1, 0))
+            world = np.eye(4)
+            mats = {"u_worldMatrix": world, "u_viewProjectionMatrix": view_proj,
+                    "u_worldInverseTransposeMatrix": np.linalg.inv(world).T, "u_worldInverseMatrix": np.linalg.inv(world),
+                    "u_envMatrix": np.diag([-1.0, 1.0, -1.0, 1.0])}
+            for name, m in mats.items():
+                if name in prog:
+                    prog[name].write(np.ascontiguousarray(m.T, dtype="f4").tobytes())
+            scalars = {"u_viewPosition": EYE, "u_envRadianceMips": self.env_mips,
+                       "u_envRadianceSamples": self.env_samples, "u_envLightIntensity": 1.0,
+                       "u_numActiveLightSources": 0}
+            for name, value in scalars.items():
+                if name in prog:
+                    prog[name].value = value
+            self.fbo.use()
+            ctx.enable(self.mgl.DEPTH_TEST)
+            ctx.clear(0.0, 0.0, 0.0, 0.0)
+            vao.render()
+            raw = self.fbo.read(components=4, dtype="f4")
+            t2 = time.perf_counter()
+            vao.release()
+        finally:
+            prog.release()
+        img = np.frombuffer(raw, dtype="f4").reshape(self.size, self.size, 4)[::-1].copy()
+        return img, {"link_s": t1 - t0, "draw_s": t2 - t1}
