@@ -88,8 +88,11 @@ def glsl_identifier(name):
 
 class _Scope:
     """A container of nodes being instantiated: the document, a document nodegraph, or an implementation."""
+    _serial = 0
 
     def __init__(self, nodes, prefix, interface, public, graph=None, parent=None, loc=None):
+        _Scope._serial += 1
+        self.key = _Scope._serial     # memo key: unlike id(), never reused by another scope
         self.nodes = nodes            # name -> document.Node
         self.prefix = prefix          # id prefix for nodes instantiated from here
         self.interface = interface    # interface input name -> Source (implementations / doc nodegraphs)
@@ -274,7 +277,7 @@ class GraphBuilder:
         return src
 
     def instantiate(self, node, scope):
-        key = (id(scope), node.name)
+        key = (scope.key, node.name)
         if key in self.memo:
             return self.memo[key]
         if key in self.active:
@@ -364,8 +367,10 @@ class GraphBuilder:
     def build(self, element):
         """Build the Graph of one renderable element name path."""
         kind, result = self._element_result(element)
-        if result.type == "material":
-            pass
+        return self.build_result(result, element, kind)
+
+    def build_result(self, result, element, kind="output"):
+        """The pruned, ordered Graph of everything `result` depends on."""
         # prune: keep only nodes reachable from the result
         needed, stack = set(), [result]
         while stack:

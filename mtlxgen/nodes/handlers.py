@@ -32,10 +32,8 @@ def geompropvalue(node, em):
     """A named primvar: vertex attribute i_geomprop_NAME (uniform string/filename ones fall back to default)."""
     name = em.static(node, "geomprop")
     out_type = node.outputs["out"]
-    if node.category == "geompropvalueuniform" or out_type in ("string", "filename"):
-        return {"out": em.input_expr(node, "default")}
-    if not name:
-        em.fail(node, "geompropvalue needs a geomprop name")
+    if node.category == "geompropvalueuniform" or out_type in ("string", "filename") or not name:
+        return {"out": em.input_expr(node, "default")}      # no primvar named: the default value
     return {"out": em.stream("geomprop_" + name, out_type)}
 
 

@@ -12,3 +12,10 @@ NODES = {
     "xor": "{{in1}} != {{in2}}",
     "not": "!{{in}}",
 }
+
+# boolean-valued comparisons have no in1/in2: the comparison itself is the result
+NODEDEFS = {nd: expr for names, expr in [
+    (("ND_ifgreater_boolean", "ND_ifgreater_booleanI"), "{{value1}} > {{value2}}"),
+    (("ND_ifgreatereq_boolean", "ND_ifgreatereq_booleanI"), "{{value1}} >= {{value2}}"),
+    (("ND_ifequal_boolean", "ND_ifequal_booleanI", "ND_ifequal_booleanB"), "{{value1}} == {{value2}}"),
+] for nd in names}

@@ -17,7 +17,7 @@ NODES = {
     "floor": "floor({{in}})",
     "ceil": "ceil({{in}})",
     "round": "round({{in}})",
-    "power": "pow({{in1}}, {{in2}})",
+    "power": "pow({{in1}}, {{$type}}({{in2}}))",     # FA variants: the float exponent widened
     "sin": "sin({{in}})",
     "cos": "cos({{in}})",
     "tan": "tan({{in}})",

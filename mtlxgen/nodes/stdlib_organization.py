@@ -4,7 +4,7 @@ NODES = {
     "dot": "{{in}}",
     "constant": "{{value}}",
     "surfacematerial": "{{surfaceshader}}",
-    "volumematerial": "{{volumeshader}}",
+    "volumematerial": "surfaceshader({{volumeshader}}.color, {{volumeshader}}.transparency)",
     "time": {"expr": "mg_time({{fps}})", "files": ["stdlib/application/time.glsl"]},
     "frame": {"expr": "mg_frame()", "files": ["stdlib/application/time.glsl"]},
 }

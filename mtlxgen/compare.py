@@ -1,0 +1,37 @@
+"""Image comparison: the parity metric shared with the scoreboard.
+
+Two sRGB 8-bit renders match when the mean of the per-pixel max-channel difference is <= 2/255 and
+at most 1% of pixels differ by more than 8/255.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .images import to_srgb8
+
+MEAN_LIMIT = 2.0
+PIXEL_THRESHOLD = 8
+FRACTION_LIMIT = 0.01
+
+
+@dataclass(frozen=True)
+class Parity:
+    mean: float          # mean max-channel difference, in 8-bit steps
+    fraction: float      # share of pixels off by more than PIXEL_THRESHOLD
+    max: int
+
+    @property
+    def passes(self):
+        return self.mean <= MEAN_LIMIT and self.fraction <= FRACTION_LIMIT
+
+    def __str__(self):
+        return "mean %.2f/255, %.2f%% of pixels > %d/255, max %d" % (self.mean, 100 * self.fraction,
+                                                                     PIXEL_THRESHOLD, self.max)
+
+
+def parity(a, b):
+    """Compare two images (linear float RGBA, or sRGB uint8) on their RGB channels."""
+    a8 = a if a.dtype == np.uint8 else to_srgb8(a)
+    b8 = b if b.dtype == np.uint8 else to_srgb8(b)
+    d = np.abs(a8[..., :3].astype(np.int16) - b8[..., :3].astype(np.int16)).max(-1)
+    return Parity(float(d.mean()), float((d > PIXEL_THRESHOLD).mean()), int(d.max()))

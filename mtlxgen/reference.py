@@ -1,0 +1,58 @@
+"""MaterialX's own GenGlsl, used as the reference in tests and benchmarks (never in generation).
+
+Needs the `materialx` wheel; raises ReferenceUnavailable with a clear message when it is missing.
+"""
+import os
+import time
+
+
+class ReferenceUnavailable(RuntimeError):
+    pass
+
+
+class MaterialXReference:
+    def __init__(self, search_dirs=()):
+        try:
+            import MaterialX as mx
+            import MaterialX.PyMaterialXGenGlsl as mx_glsl
+            import MaterialX.PyMaterialXGenShader as mx_gen
+        except ImportError as e:
+            raise ReferenceUnavailable("the reference tests need the 'materialx' wheel (pip install materialx): %s"
+                                       % e) from None
+        self.mx, self.mx_gen, self.mx_glsl = mx, mx_gen, mx_glsl
+        self.search = mx.FileSearchPath(os.path.dirname(mx.__file__))
+        for d in search_dirs:
+            self.search.append(d)
+        self.lib = mx.createDocument()
+        mx.loadLibraries(mx.getDefaultDataLibraryFolders(), self.search, self.lib)
+
+    def load(self, path):
+        doc = self.mx.createDocument()
+        self.mx.readFromXmlFile(doc, path, self.search)
+        doc.importLibrary(self.lib)
+        return doc
+
+    def elements(self, path):
+        doc = self.load(path)
+        return [e.getNamePath() for e in self.mx_gen.findRenderableElements(doc)]
+
+    def generate(self, path, element, doc=None):
+        """(vertex, fragment, {sampler: file}, seconds) of MaterialX's GLSL for one element."""
+        doc = doc or self.load(path)
+        gen = self.mx_glsl.GlslShaderGenerator.create()
+        ctx = self.mx_gen.GenContext(gen)
+        ctx.registerSourceCodeSearchPath(self.search)
+        t = time.perf_counter()
+        shader = gen.generate("s", doc.getDescendant(element), ctx)
+        seconds = time.perf_counter() - t
+        stage = shader.getStage(self.mx_gen.PIXEL_STAGE)
+        textures = {}
+        for block_name in stage.getUniformBlocks():
+            block = stage.getUniformBlock(block_name)
+            for i in range(block.size()):
+                port = block[i]
+                if port.getType().getName() == "filename" and port.getValue() is not None:
+                    from .resolve import resolve_file
+                    textures[port.getVariable()] = resolve_file(port.getValue().getValueString(), path) or ""
+        return (shader.getSourceCode(self.mx_gen.VERTEX_STAGE), shader.getSourceCode(self.mx_gen.PIXEL_STAGE),
+                textures, seconds)

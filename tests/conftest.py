@@ -1,0 +1,34 @@
+"""Shared fixtures: one renderer and one MaterialX reference per test session."""
+import os
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, ROOT)
+CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
+TESTSUITE = os.path.join(CORPUS, "resources", "Materials", "TestSuite")
+TEST_SIZE = 128
+
+
+@pytest.fixture(scope="session")
+def renderer():
+    from mtlxgen.render import Renderer
+    with Renderer(size=TEST_SIZE) as r:
+        yield r
+
+
+@pytest.fixture(scope="session")
+def reference():
+    """MaterialX's GenGlsl. Fails (not skips) when the wheel is missing: parity must be checked."""
+    from mtlxgen.reference import MaterialXReference, ReferenceUnavailable
+    try:
+        return MaterialXReference([CORPUS])
+    except ReferenceUnavailable as e:
+        pytest.fail(str(e))
+
+
+@pytest.fixture(scope="session")
+def library():
+    from mtlxgen.library import load_library
+    return load_library()

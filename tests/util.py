@@ -1,0 +1,44 @@
+"""Helpers for tests: write a document, generate it, render ours and MaterialX's, compare."""
+import os
+
+import numpy as np
+
+from mtlxgen import compare, images, pipeline
+
+FAILURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_failures")
+
+
+def write_doc(tmp_path, body, name="doc.mtlx", version="1.39"):
+    path = os.path.join(str(tmp_path), name)
+    with open(path, "w") as f:
+        f.write('<?xml version="1.0"?>\n<materialx version="%s">\n%s\n</materialx>\n' % (version, body))
+    return path
+
+
+def generate_one(path, element=None):
+    shaders = pipeline.generate(path, [element] if element else None)
+    return shaders[0] if element else shaders
+
+
+def save_side_by_side(name, ours, theirs):
+    """Write ours | theirs | diff for a failing comparison; returns the path."""
+    os.makedirs(FAILURES, exist_ok=True)
+    a, b = images.to_srgb8(ours)[..., :3], images.to_srgb8(theirs)[..., :3]
+    diff = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(-1)
+    heat = np.stack([np.clip(diff * 8, 0, 255)] * 3, -1).astype(np.uint8)
+    path = os.path.join(FAILURES, name.replace("/", "_") + ".png")
+    images.write_image(path, np.concatenate([a, b, heat], axis=1))
+    return path
+
+
+def assert_parity_with_materialx(renderer, reference, path, element):
+    """Render our shader and MaterialX's for one element in our harness and assert parity."""
+    ours_shader = generate_one(path, element)
+    ours = renderer.render(ours_shader)
+    vs, fs, tex, _ = reference.generate(path, element)
+    theirs, _ = renderer.render_timed(vs, fs, {}, tex)
+    p = compare.parity(ours, theirs)
+    if not p.passes:
+        where = save_side_by_side(os.path.basename(path) + "_" + element, ours, theirs)
+        raise AssertionError("%s %s: %s (side by side: %s)" % (os.path.basename(path), element, p, where))
+    return p
