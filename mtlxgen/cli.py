@@ -103,6 +103,15 @@ def main(argv=None):
         return _report(e)
     except KeyboardInterrupt:
         return 130
+    except RecursionError:
+        print("%s: error: the document nests too deeply to process" % getattr(args, "file", "mtlxgen"), file=sys.stderr)
+        return 1
+    except Exception as e:     # a bug of ours: one line, the traceback only on request
+        if os.environ.get("MTLXGEN_DEBUG"):
+            raise
+        print("%s: internal error: %s: %s (set MTLXGEN_DEBUG=1 for details)"
+              % (getattr(args, "file", "mtlxgen"), type(e).__name__, e), file=sys.stderr)
+        return 3
 
 
 if __name__ == "__main__":

@@ -114,6 +114,7 @@ class GraphBuilder:
         self.uniforms = {}
         self.used_ids = set()
         self.geom_memo = {}
+        self.expanding = []           # nodedefs whose implementation graphs are being expanded
 
     # ---------- names ----------
     def new_id(self, stem):
@@ -222,6 +223,13 @@ class GraphBuilder:
         key = ("graph", g.name)
         if key not in self.memo:
             interface = {}
+            nd = self.lib.nodedefs.get(g.nodedef) if g.nodedef else None
+            for inp in (nd.inputs.values() if nd else ()):      # an implementation drawn on its own
+                if inp.name not in g.inputs:
+                    if inp.defaultgeomprop and inp.value is None:
+                        interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)
+                    else:
+                        interface[inp.name] = self.public_value(g.name, inp, inp)
             for inp in g.inputs.values():
                 if inp.nodename or inp.nodegraph:
                     interface[inp.name] = self.source_of_port(inp, self.doc_scope, inp.type, g.name)
@@ -327,27 +335,38 @@ class GraphBuilder:
             inputs[name] = src
         impl_graph = self.lib.graph_impls.get(nd.name)
         if impl_graph is not None and not self._has_leaf_impl(nd):
-            inner = _Scope(impl_graph.nodes, self.child_prefix(stem), inputs, False, impl_graph, scope, node.loc)
-            outs = {}
-            for oname, oport in impl_graph.outputs.items():
-                if oname not in nd.outputs:
-                    continue
-                src = self.source_of_port(oport, inner, oport.type, impl_graph.name)
-                if src is None:
-                    value = oport.value if oport.value is not None else mxtypes.zero(oport.type, self.lib.structs)
-                    src = Source(oport.type, value=value, loc=oport.loc)
-                outs[oname] = src
-            for oname, decl in nd.outputs.items():
-                if oname not in outs:
-                    raise MtlxError((impl_graph.loc, "nodegraph '%s' implements %s but has no output '%s'"
-                                     % (impl_graph.name, nd.name, oname)))
-            return outs
+            if nd.name in self.expanding:
+                raise MtlxError((impl_graph.loc, "nodegraph '%s' implements %s and uses it inside itself"
+                                 % (impl_graph.name, nd.name)))
+            self.expanding.append(nd.name)
+            try:
+                return self._expand(node, nd, impl_graph, inputs, stem, scope)
+            finally:
+                self.expanding.pop()
         ident = self.new_id(stem)
         g = GNode(id=ident, category=nd.category, nodedef=nd, inputs=inputs,
                   outputs={o.name: o.type for o in nd.outputs.values()}, loc=node.loc, static=static)
         self.nodes[ident] = g
         self.order.append(ident)
         return {oname: Source(t, node=ident, output=oname, loc=node.loc) for oname, t in g.outputs.items()}
+
+    def _expand(self, node, nd, impl_graph, inputs, stem, scope):
+        """Instantiate a nodegraph implementation in place of `node`; returns its output sources."""
+        inner = _Scope(impl_graph.nodes, self.child_prefix(stem), inputs, False, impl_graph, scope, node.loc)
+        outs = {}
+        for oname, oport in impl_graph.outputs.items():
+            if oname not in nd.outputs:
+                continue
+            src = self.source_of_port(oport, inner, oport.type, impl_graph.name)
+            if src is None:
+                value = oport.value if oport.value is not None else mxtypes.zero(oport.type, self.lib.structs)
+                src = Source(oport.type, value=value, loc=oport.loc)
+            outs[oname] = src
+        for oname, decl in nd.outputs.items():
+            if oname not in outs:
+                raise MtlxError((impl_graph.loc, "nodegraph '%s' implements %s but has no output '%s'"
+                                 % (impl_graph.name, nd.name, oname)))
+        return outs
 
     def child_prefix(self, stem):
         return stem + "_"
@@ -421,17 +440,14 @@ SHADER_TYPES = ("surfaceshader", "volumeshader")
 
 
 def renderable_elements(doc):
-    """Name paths of what MaterialX's findRenderableElements returns for this document."""
+    """Name paths of what MaterialX's findRenderableElements returns for this document: its material
+    nodes; where there are none, the outputs of its nodegraphs and its top-level outputs. Where even
+    those are absent, its shader nodes (MaterialX finds nothing there; we still render them)."""
     materials = [n.name for n in doc.nodes.values() if n.type == "material"]
     if materials:
         return materials
-    shaders = [n.name for n in doc.nodes.values() if n.type in SHADER_TYPES]
-    if shaders:
-        return shaders
-    out = []
-    for g in doc.nodegraphs.values():
-        if g.nodedef:
-            continue
-        out += ["%s/%s" % (g.name, o) for o in g.outputs]
+    out = ["%s/%s" % (g.name, o) for g in doc.nodegraphs.values() for o in g.outputs]
     out += list(doc.outputs)
-    return out
+    if out:
+        return out
+    return [n.name for n in doc.nodes.values() if n.type in SHADER_TYPES]

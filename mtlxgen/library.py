@@ -101,7 +101,9 @@ class Library:
                 lst.append(nd)
         for g in doc.nodegraphs.values():
             self.nodegraphs[g.name] = g
-            if g.nodedef:
+            # a document graph claiming a library nodedef that already has an implementation keeps
+            # the library's (the graph still renders on its own)
+            if g.nodedef and not (overlay and g.nodedef not in doc.nodedefs and g.nodedef in self.nodedefs):
                 self.graph_impls[g.nodedef] = g
         for impl in doc.implementations.values():
             if impl.target not in (None, "", "genglsl"):

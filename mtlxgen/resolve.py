@@ -13,8 +13,19 @@ def resolve_file(name, doc_path, extra=()):
         return None
     if os.path.isabs(name):
         return name if os.path.exists(name) else None
-    for base in [os.path.dirname(os.path.abspath(doc_path))] + search_paths(extra):
+    doc_dir = os.path.dirname(os.path.abspath(doc_path))
+    for base in [doc_dir] + search_paths(extra) + _ancestors(doc_dir):
         cand = os.path.join(base, name)
         if os.path.exists(cand):
             return os.path.abspath(cand)
     return None
+
+
+def _ancestors(folder):
+    """The folders above the document's: a resource tree's root (which MaterialX applications put on
+    the search path, e.g. the folder holding resources/Images) is usually one of them."""
+    out, cur = [], os.path.dirname(folder)
+    while cur and cur != os.path.dirname(cur):
+        out.append(cur)
+        cur = os.path.dirname(cur)
+    return out
