@@ -201,7 +201,9 @@ class _Builder:
 
     def nodedef(self, el, ctx, source):
         a = el.attrs
-        nd = NodeDef(name=a.get("name", ""), category=a.get("node", ""), loc=el.loc, inherit=a.get("inherit"),
+        ns = ctx.get("namespace")
+        nd = NodeDef(name=_qualify(ns, a.get("name", "")), category=_qualify(ns, a.get("node", "")), loc=el.loc,
+                     inherit=_qualify(ns, a.get("inherit")),
                      version=a.get("version"), isdefaultversion=a.get("isdefaultversion") == "true",
                      nodegroup=a.get("nodegroup"), target=a.get("target"), source=source)
         self.ports_of(el, ctx, nd)
@@ -211,7 +213,9 @@ class _Builder:
 
     def nodegraph(self, el, ctx):
         a = el.attrs
-        g = NodeGraph(name=a.get("name", ""), loc=el.loc, nodedef=a.get("nodedef"), version=a.get("version"))
+        ns = ctx.get("namespace")
+        g = NodeGraph(name=_qualify(ns, a.get("name", "")), loc=el.loc, nodedef=_qualify(ns, a.get("nodedef")),
+                      version=a.get("version"))
         for c in el.children:
             cctx = _child_ctx(ctx, c)
             if c.tag in ("input", "parameter", "output", "token"):
@@ -226,8 +230,15 @@ class _Builder:
         return g
 
 
+def _qualify(namespace, name):
+    """A name declared inside a `namespace` (MaterialX 1.38): `ns:name`, unless already qualified."""
+    if not namespace or not name or ":" in name:
+        return name
+    return namespace + ":" + name
+
+
 def _child_ctx(ctx, el):
-    keys = ("fileprefix", "geomprefix", "colorspace")
+    keys = ("fileprefix", "geomprefix", "colorspace", "namespace")
     if not any(k in el.attrs for k in keys):
         return ctx
     new = dict(ctx)
@@ -264,10 +275,11 @@ def build(root, path, source="document"):
             doc.nodegraphs[g.name] = g
         elif tag == "implementation":
             a = el.attrs
-            doc.implementations[name] = Implementation(name=name, loc=el.loc, nodedef=a.get("nodedef"),
+            ns = cctx.get("namespace")
+            doc.implementations[name] = Implementation(name=name, loc=el.loc, nodedef=_qualify(ns, a.get("nodedef")),
                                                        file=a.get("file"), function=a.get("function"),
                                                        sourcecode=a.get("sourcecode"), target=a.get("target"),
-                                                       nodegraph=a.get("nodegraph"))
+                                                       nodegraph=_qualify(ns, a.get("nodegraph")))
         elif tag == "geompropdef":
             a = el.attrs
             try:

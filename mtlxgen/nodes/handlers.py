@@ -37,6 +37,14 @@ def geompropvalue(node, em):
     return {"out": em.stream("geomprop_" + name, out_type)}
 
 
+def viewdirection(node, em):
+    """nprlib viewdirection: the unit direction from the camera to the shaded point, in a space."""
+    v = "normalize(%s - %s)" % (em.stream("position_world"), em.app_uniform("u_viewPosition"))
+    if _space(node, em) == "object":
+        v = "normalize((%s * vec4(%s, 0.0)).xyz)" % (em.app_uniform("u_worldInverseMatrix"), v)
+    return {"out": v}
+
+
 # object <-> world with the application's matrices; normals use the inverse transpose
 _TRANSFORMS = {
     ("transformpoint", "object", "world"): "(u_worldMatrix * vec4({x}, 1.0)).xyz",

@@ -9,4 +9,7 @@ NODES = {
     "remap": "{{outlow}} + ({{in}} - {{inlow}}) * ({{outhigh}} - {{outlow}}) / ({{inhigh}} - {{inlow}})",
     "smoothstep": {"expr": "mg_smoothstep({{in}}, {{low}}, {{high}})", "files": ["stdlib/adjustment/smoothstep.glsl"]},
     "luminance": {"expr": "mg_luminance({{in}}, {{lumacoeffs}})", "files": ["stdlib/adjustment/luminance.glsl"]},
+    # hexcone colour model (Smith 1978); colour4 keeps its alpha
+    "rgbtohsv": {"expr": "mg_rgbtohsv({{in}})", "files": ["stdlib/adjustment/rgbtohsv.glsl"]},
+    "hsvtorgb": {"expr": "mg_hsvtorgb({{in}})", "files": ["stdlib/adjustment/hsvtorgb.glsl"]},
 }
