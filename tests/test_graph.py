@@ -1,4 +1,5 @@
 """Typed graph building: nodedef resolution, type checks, nodegraph expansion, geomprops, pruning, cycles."""
+import os
 import pytest
 
 from mtlxgen import document, graph
@@ -163,3 +164,68 @@ def test_renderable_elements_match_materialx_on_the_corpus(reference):
         assert ours == theirs, path
         checked += 1
     assert checked > 40
+
+
+VERSIONED = """
+  <nodedef name="ND_shade_v1" node="shade" version="1.0" isdefaultversion="true">
+    <input name="k" type="float" value="0.25" />
+    <output name="out" type="float" />
+  </nodedef>
+  <nodedef name="ND_shade_v2" node="shade" version="2.0">
+    <input name="k" type="float" value="0.75" />
+    <output name="out" type="float" />
+  </nodedef>
+  <nodegraph name="NG_shade_v1" nodedef="ND_shade_v1">
+    <sin name="s" type="float"><input name="in" type="float" interfacename="k" /></sin>
+    <output name="out" type="float" nodename="s" />
+  </nodegraph>
+  <nodegraph name="NG_shade_v2" nodedef="ND_shade_v2">
+    <cos name="c" type="float"><input name="in" type="float" interfacename="k" /></cos>
+    <output name="out" type="float" nodename="c" />
+  </nodegraph>
+  <shade name="plain" type="float" />
+  <shade name="pinned" type="float" version="2.0" />
+  <output name="o_plain" type="float" nodename="plain" />
+  <output name="o_pinned" type="float" nodename="pinned" />"""
+
+
+def test_versions_pick_the_default_unless_a_node_names_one(tmp_path, library):
+    path = write_doc(tmp_path, VERSIONED)
+    doc = document.load(path)
+    plain = graph.build_graph(doc, library, "o_plain")
+    pinned = graph.build_graph(doc, library, "o_pinned")
+    assert [n.category for n in plain.nodes] == ["sin"]
+    assert plain.uniforms["plain_k"].value == 0.25
+    assert [n.category for n in pinned.nodes] == ["cos"]
+    assert pinned.uniforms["pinned_k"].value == 0.75
+
+
+def test_unknown_version_is_an_error(tmp_path, library):
+    path = write_doc(tmp_path, VERSIONED.replace('version="2.0" />', 'version="3.0" />'))
+    with pytest.raises(MtlxError, match=r"doc\.mtlx:\d+: node 'pinned'"):
+        graph.build_graph(document.load(path), library, "o_pinned")
+
+
+def test_library_option_adds_definitions(tmp_path):
+    import subprocess
+    import sys
+    libdir = tmp_path / "lib"
+    libdir.mkdir()
+    (libdir / "defs.mtlx").write_text("""<?xml version="1.0"?>
+<materialx version="1.39">
+  <nodedef name="ND_half_float" node="half"><input name="in" type="float" value="1" /><output name="out" type="float" /></nodedef>
+  <nodegraph name="NG_half_float" nodedef="ND_half_float">
+    <multiply name="m" type="float"><input name="in1" type="float" interfacename="in" /><input name="in2" type="float" value="0.5" /></multiply>
+    <output name="out" type="float" nodename="m" />
+  </nodegraph>
+</materialx>
+""")
+    path = write_doc(tmp_path, """<nodegraph name="g"><half name="h" type="float" />
+      <output name="out" type="float" nodename="h" /></nodegraph>""")
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    cli = [sys.executable, os.path.join(root, "cli.py"), "generate", path, "-o", str(tmp_path / "o")]
+    without = subprocess.run(cli, capture_output=True, text=True)
+    assert without.returncode == 1 and "unknown node category 'half'" in without.stderr
+    with_lib = subprocess.run(cli + ["--library", str(libdir)], capture_output=True, text=True)
+    assert with_lib.returncode == 0, with_lib.stderr
+    assert "* 0.5" in (tmp_path / "o" / "g_out.frag").read_text()

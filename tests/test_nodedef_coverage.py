@@ -13,6 +13,7 @@ from nodedef_probe import probe_nodedef
 CLAIMED = {
     ("stdlib", "math"), ("stdlib", "channel"), ("stdlib", "conditional"), ("stdlib", "geometric"),
     ("stdlib", "organization"), ("stdlib", "application"), ("stdlib", "material"), ("stdlib", "shader"),
+    ("stdlib", "procedural"), ("stdlib", "procedural2d"), ("stdlib", "procedural3d"),
 }
 PENDING = {
     "normalmap", "hextilednormalmap", "bump",          # texture work: standard-library issue

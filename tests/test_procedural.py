@@ -130,3 +130,24 @@ def _out_type(node):
     """The type of the last node of a case (the one named n)."""
     i = node.rfind('name="n" type="')
     return node[i + len('name="n" type="'):].split('"', 1)[0]
+
+
+# flake2d / flake3d are our own construction (MaterialX publishes no algorithm): no parity, only the contract
+@pytest.mark.parametrize("category,space", [("flake2d", "texcoord"), ("flake3d", "position")])
+def test_flake_coverage_sets_the_covered_fraction(category, space, tmp_path, renderer):
+    import numpy as np
+
+    from util import generate_one
+    covered = []
+    for coverage in ("0", "0.5", "1"):
+        node = _node(category, "multioutput", size=("float", "0.05"), coverage=("float", coverage))
+        body = ('<nodegraph name="g">%s<output name="id" type="integer" nodename="n" output="id" />'
+                '<output name="rand" type="float" nodename="n" output="rand" /></nodegraph>' % node)
+        path = write_doc(tmp_path, body, name="%s_%s.mtlx" % (category, coverage))
+        ids = renderer.render(generate_one(path, "g/id"))
+        rand = renderer.render(generate_one(path, "g/rand"))
+        on_sphere = ids[..., 3] > 0
+        assert rand[..., :3].min() >= 0.0 and rand[..., :3].max() <= 1.0
+        covered.append(float(np.mean(ids[..., 0][on_sphere] > 0)))
+    assert covered[0] == 0.0
+    assert 0.2 < covered[1] < covered[2]

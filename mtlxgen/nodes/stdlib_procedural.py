@@ -28,3 +28,13 @@ NODES = {
     "splittb": {"expr": "mix({{valueb}}, {{valuet}}, mg_aastep({{center}}, ({{texcoord}}).y))",
                 "files": [_P + "split.glsl"]},
 }
+
+# flake2d / flake3d: every output reads the one flake lookup (an MgFlake struct). The pattern is our own
+# construction (MaterialX publishes no algorithm for it): it does not reproduce MaterialX's render.
+_FLAKE_ARGS = "{{size}}, {{roughness}}, {{coverage}}, %s, {{normal}}, {{tangent}}, {{bitangent}}"
+_FLAKE2D = "mg_flake2d(" + _FLAKE_ARGS % "{{texcoord}}" + ")"
+_FLAKE3D = "mg_flake3d(" + _FLAKE_ARGS % "{{position}}" + ")"
+NODES["flake2d"] = {"outputs": {"id": _FLAKE2D + ".id", "rand": _FLAKE2D + ".rand", "presence": _FLAKE2D + ".presence",
+                                "flakenormal": _FLAKE2D + ".normal"}, "files": [_P + "flake.glsl"]}
+NODES["flake3d"] = {"outputs": {"id": _FLAKE3D + ".id", "rand": _FLAKE3D + ".rand", "presence": _FLAKE3D + ".presence",
+                                "flakenormal": _FLAKE3D + ".normal"}, "files": [_P + "flake.glsl"]}
