@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 from . import mxtypes, nodes, streams
 from .diagnostics import Loc, MtlxError
-from .graph import glsl_identifier
+from .graph import glsl_identifier, unique_identifier
 from .library import glsl_lib_root
 
 GLSL_VERSION = "400"
@@ -140,13 +140,7 @@ class Emitter:
         return mxtypes.glsl_type(mx_type, self.graph.structs)
 
     def fresh(self, stem):
-        base = glsl_identifier(stem)
-        name, k = base, 1
-        while name in self.names:
-            k += 1
-            name = "%s%d" % (base, k)
-        self.names.add(name)
-        return name
+        return unique_identifier(stem, self.names)
 
     # ---------- templates ----------
     def render(self, template, node, out_type):

@@ -86,6 +86,17 @@ def glsl_identifier(name):
     return s
 
 
+def unique_identifier(stem, taken):
+    """A GLSL identifier from `stem` not yet in `taken` (a counter appended where needed); adds it."""
+    base = glsl_identifier(stem)
+    name, k = base, 1
+    while name in taken:
+        k += 1
+        name = "%s%d" % (base, k)
+    taken.add(name)
+    return name
+
+
 class _Scope:
     """A container of nodes being instantiated: the document, a document nodegraph, or an implementation."""
     _serial = 0
@@ -118,13 +129,7 @@ class GraphBuilder:
 
     # ---------- names ----------
     def new_id(self, stem):
-        base = glsl_identifier(stem)
-        ident, k = base, 1
-        while ident in self.used_ids:
-            k += 1
-            ident = "%s%d" % (base, k)
-        self.used_ids.add(ident)
-        return ident
+        return unique_identifier(stem, self.used_ids)
 
     def add_uniform(self, stem, type_name, value, loc, colorspace=None):
         name = self.new_id(stem)
@@ -379,7 +384,8 @@ class GraphBuilder:
     @property
     def doc_scope(self):
         if "_doc_scope" not in self.__dict__:
-            interface = {}
+            # top-level <input>s: the document's own interface, public uniforms like any other
+            interface = {i.name: self.public_value("doc", i, i) for i in self.doc.inputs.values()}
             self._doc_scope = _Scope(self.doc.nodes, "", interface, True, None, None, None)
         return self._doc_scope
 
