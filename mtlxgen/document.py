@@ -250,7 +250,10 @@ def _child_ctx(ctx, el):
 
 def build(root, path, source="document"):
     """XElement tree of one file (includes spliced) -> Document. Raises MtlxError listing all problems."""
-    doc = Document(path=path, version=root.get("version", "1.39"), colorspace=root.get("colorspace"))
+    version = root.get("version", "1.39")
+    from .upgrade import upgrade_tree       # an older document is read as the 1.39 one it stands for
+    root = upgrade_tree(root)
+    doc = Document(path=path, version=version, colorspace=root.get("colorspace"))
     problems = Problems()
     b = _Builder(doc, problems)
     ctx = _child_ctx({}, root)

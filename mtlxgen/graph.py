@@ -238,6 +238,8 @@ class GraphBuilder:
             for inp in g.inputs.values():
                 if inp.nodename or inp.nodegraph:
                     interface[inp.name] = self.source_of_port(inp, self.doc_scope, inp.type, g.name)
+                elif inp.defaultgeomprop and inp.value is None:
+                    interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)
                 else:
                     interface[inp.name] = self.public_value(g.name, inp, inp)
             self.memo[key] = _Scope(g.nodes, g.name + "/", interface, True, g, self.doc_scope, g.loc)

@@ -14,6 +14,7 @@ CLAIMED = {
     ("stdlib", "math"), ("stdlib", "channel"), ("stdlib", "conditional"), ("stdlib", "geometric"),
     ("stdlib", "organization"), ("stdlib", "application"), ("stdlib", "material"), ("stdlib", "shader"),
     ("stdlib", "procedural"), ("stdlib", "procedural2d"), ("stdlib", "procedural3d"),
+    ("stdlib", "adjustment"), ("stdlib", "compositing"), ("nprlib", "npr"),
 }
 PENDING = {
     "normalmap", "hextilednormalmap", "bump",          # texture work: standard-library issue

@@ -19,7 +19,8 @@ NODES = {
     "over": "mix({{bg}}, {{fg}} + {{bg}} * (1.0 - {{fg}}.a), {{mix}})",
     "in": "mix({{bg}}, {{fg}} * {{bg}}.a, {{mix}})",
     "mask": "mix({{bg}}, {{bg}} * {{fg}}.a, {{mix}})",
-    "matte": "mix({{bg}}, vec4({{fg}}.rgb * {{fg}}.a + {{bg}}.rgb * (1.0 - {{fg}}.a), {{fg}}.a + {{bg}}.a * (1.0 - {{fg}}.a)), {{mix}})",
+    "matte": ("mix({{bg}}, vec4({{fg}}.rgb * {{fg}}.a + {{bg}}.rgb * (1.0 - {{fg}}.a), "
+              "{{fg}}.a + {{bg}}.a * (1.0 - {{fg}}.a)), {{mix}})"),
     "out": "mix({{bg}}, {{fg}} * (1.0 - {{bg}}.a), {{mix}})",
     "disjointover": {"expr": "mg_disjointover({{fg}}, {{bg}}, {{mix}})", "files": [_CD + "disjointover.glsl"]},
     # masking
@@ -33,7 +34,10 @@ NODES = {
     "mix": "mix({{bg}}, {{fg}}, {{mix}})",
 }
 
+# shader and closure values are structs: mixed member by member (EDF is a colour, the template serves)
 NODEDEFS = {
-    "ND_mix_%s" % t: {"expr": "mg_mix_%s({{fg}}, {{bg}}, {{mix}})" % t, "files": [_CD + "mix_shader.glsl"]}
-    for t in ("surfaceshader", "volumeshader", "displacementshader")
+    nd: {"expr": "mg_mix_%s({{fg}}, {{bg}}, {{mix}})" % t, "files": [_CD + "mix_shader.glsl"]}
+    for nd, t in (("ND_mix_surfaceshader", "surfaceshader"), ("ND_mix_volumeshader", "volumeshader"),
+                  ("ND_mix_displacementshader", "displacementshader"), ("ND_mix_bsdf", "BSDF"),
+                  ("ND_mix_vdf", "VDF"))
 }

@@ -14,3 +14,14 @@ displacementshader mg_mix_displacementshader(displacementshader fg, displacement
 {
     return displacementshader(mix(bg.offset, fg.offset, amount), mix(bg.scale, fg.scale, amount));
 }
+
+// BSDF and VDF values (pbrlib's mix of closures): both what they return and what they let through
+BSDF mg_mix_BSDF(BSDF fg, BSDF bg, float amount)
+{
+    return BSDF(mix(bg.response, fg.response, amount), mix(bg.throughput, fg.throughput, amount));
+}
+
+VDF mg_mix_VDF(VDF fg, VDF bg, float amount)
+{
+    return VDF(mix(bg.response, fg.response, amount), mix(bg.throughput, fg.throughput, amount));
+}
