@@ -1,4 +1,4 @@
-"""Command line: mtlxgen generate | render | info.
+"""Command line: mtlxgen generate | render | info | golden check/update | report | batch.
 
 Errors in input print one `FILE:LINE: problem` line each on stderr and exit with status 1;
 usage errors exit with 2. No tracebacks for bad input.
@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from .diagnostics import MtlxError
+from .diagnostics import Loc, MtlxError
 
 
 def _report(e):
@@ -65,6 +65,111 @@ def cmd_info(args):
     return status
 
 
+def _show(path):
+    """A path as the user would type it: relative below the current directory, else absolute."""
+    rel = os.path.relpath(path)
+    return os.path.abspath(path) if rel.startswith("..") else rel
+
+
+def _print_check(run, verbose=False):
+    rel = _show
+    for r in run.results:
+        if r["status"] == "pass" and not verbose:
+            continue
+        m = r["metrics"]
+        flip = m.get("flip")
+        print("%-7s %s (%s:%s)%s" % (r["status"].upper(), r["name"], r["source"], r["element"],
+                                     "" if flip is None else "  FLIP %.5f" % flip))
+        for line in r["message"]:
+            print("        " + line)
+        if r["status"] == "fail":
+            print("        " + "  ".join("%s: %s" % (k, rel(os.path.join(run.out_dir, r["files"][k])))
+                                        for k in ("new", "golden", "diff") if k in r["files"]))
+    for note in run.notes:
+        print("note: " + note, file=sys.stderr)
+
+
+def cmd_golden_check(args):
+    from . import golden, report
+    tol = golden.Tolerance(threshold=args.threshold, max_fraction=args.max_fraction, flip=args.flip_limit)
+    run = golden.check(args.paths, args.goldens, args.output, tol, workers=args.workers,
+                       progress=False if args.no_progress else None, flip=not args.no_flip,
+                       library_dirs=args.library)
+    _print_check(run, args.verbose)
+    html_path = report.write_report(run.out_dir)
+    c = run.counts()
+    print("golden check: %d passed, %d failed, %d missing, %d errors; images in %s; report %s"
+          % (c["pass"], c["fail"], c["missing"], c["error"], _show(run.out_dir), _show(html_path)))
+    if args.timings:
+        print(_timings(run.results))
+    return 0 if run.ok else 1
+
+
+def _timings(results):
+    from .batch import timing_table
+    return timing_table([(r["name"], r["timings"], r["status"] != "error") for r in results])
+
+
+def cmd_golden_update(args):
+    from . import golden
+    from .batch import RenderSettings
+    settings = None
+    if args.size is not None or args.env is not None:
+        settings = RenderSettings(size=args.size or RenderSettings.size,
+                                  environment=os.path.abspath(args.env) if args.env else RenderSettings.environment)
+    done = golden.update(args.paths, args.goldens, settings, workers=args.workers,
+                         progress=False if args.no_progress else None, library_dirs=args.library)
+    status = 0
+    for name, what, lines in done:
+        if what != "unchanged" or args.verbose:
+            print("%-9s %s" % (what, name))
+        for line in lines if what == "error" else ():
+            print("          " + line)
+        status = 1 if what == "error" else status
+    counts = {}
+    for _, what, _ in done:
+        counts[what] = counts.get(what, 0) + 1
+    print("golden update: %s in %s" % (", ".join("%d %s" % (v, k) for k, v in sorted(counts.items())) or "nothing",
+                                        _show(args.goldens)))
+    return status
+
+
+def cmd_report(args):
+    from . import golden, report
+    out = args.dir
+    if not os.path.exists(os.path.join(out, "results.json")):
+        if not os.path.isdir(out):
+            raise MtlxError((Loc(out, 0), "not a directory"))
+        # a directory of materials: check it first, into --checks
+        run = golden.check([out], args.goldens, args.checks, workers=args.workers,
+                           progress=False if args.no_progress else None)
+        out = run.out_dir
+    path = report.write_report(out, args.output)
+    print(path)
+    return 0
+
+
+def cmd_batch(args):
+    from . import batch, images
+    from .batch import RenderSettings
+    settings = RenderSettings(size=args.size, environment=os.path.abspath(args.env) if args.env else "builtin_sky")
+    paths = [os.path.join(b, n) for d in args.paths for b, _, ns in sorted(os.walk(d)) for n in sorted(ns)
+             if n.endswith(".mtlx")] if all(os.path.isdir(p) for p in args.paths) else args.paths
+    items = batch.render_jobs([batch.Job(p, (), settings) for p in paths], workers=args.workers,
+                              progress=False if args.no_progress else None, library_dirs=args.library)
+    status = 0
+    for it in items:
+        if not it.ok:
+            status = 1
+            for line in it.error:
+                print(line, file=sys.stderr)
+            continue
+        stem = os.path.splitext(os.path.basename(it.path))[0] + "__" + it.element.replace("/", "_")
+        images.write_image(os.path.join(args.output, stem + ".png"), it.image)
+    print(batch.timing_table([("%s:%s" % (it.path, it.element), it.timings, it.ok) for it in items]))
+    return status
+
+
 def build_parser():
     ap = argparse.ArgumentParser(prog="mtlxgen", description="MaterialX documents to GLSL shaders")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -92,6 +197,59 @@ def build_parser():
     p = sub.add_parser("info", help="list elements, their nodes and unresolved problems")
     common(p)
     p.set_defaults(func=cmd_info)
+
+    def pool(p):
+        p.add_argument("-j", "--workers", type=int, default=None, metavar="N",
+                       help="render processes (default: one per core)")
+        p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+        p.add_argument("--library", action="append", default=[], metavar="DIR",
+                       help="extra directory of .mtlx definitions (repeatable)")
+
+    p = sub.add_parser("golden", help="golden-image regression: check renders against golden_images/, or update them")
+    gsub = p.add_subparsers(dest="golden_command", required=True)
+    g = gsub.add_parser("check", help="render and compare with the goldens; exit 1 on any difference")
+    g.add_argument("paths", nargs="*", metavar="PATH",
+                   help=".mtlx files, directories, or FILE.mtlx:ELEMENT (default: every golden in the index)")
+    g.add_argument("--goldens", default="golden_images", metavar="DIR", help="golden directory (default: golden_images)")
+    g.add_argument("-o", "--output", default=os.path.join("out", "golden"), metavar="DIR",
+                   help="where new/golden/diff images, results.json and report.html go (default: out/golden)")
+    g.add_argument("--threshold", type=int, default=2, metavar="STEPS",
+                   help="8-bit sRGB steps a pixel may differ by (default: 2)")
+    g.add_argument("--max-fraction", type=float, default=0.0, metavar="F",
+                   help="share of pixels allowed over the threshold (default: 0)")
+    g.add_argument("--flip-limit", type=float, default=None, metavar="F",
+                   help="also fail when the mean FLIP error exceeds F (default: FLIP is reported only)")
+    g.add_argument("--no-flip", action="store_true", help="skip the FLIP score")
+    g.add_argument("--timings", action="store_true", help="print per-material timings")
+    g.add_argument("-v", "--verbose", action="store_true", help="list passing materials too")
+    pool(g)
+    g.set_defaults(func=cmd_golden_check)
+    g = gsub.add_parser("update", help="render and rewrite goldens (and their index entries)")
+    g.add_argument("paths", nargs="*", metavar="PATH",
+                   help=".mtlx files, directories, or FILE.mtlx:ELEMENT (default: every golden in the index)")
+    g.add_argument("--goldens", default="golden_images", metavar="DIR")
+    g.add_argument("--size", type=int, default=None, help="image size (default: what each golden recorded, else 128)")
+    g.add_argument("--env", metavar="FILE", help="lat-long HDR/EXR environment (default: recorded, else built-in sky)")
+    g.add_argument("-v", "--verbose", action="store_true", help="list unchanged goldens too")
+    pool(g)
+    g.set_defaults(func=cmd_golden_update)
+
+    p = sub.add_parser("report", help="one self-contained HTML page from a golden check's output directory")
+    p.add_argument("dir", metavar="DIR", help="a `golden check` output directory (or a directory of .mtlx to check)")
+    p.add_argument("-o", "--output", metavar="FILE", help="HTML file (default: DIR/report.html)")
+    p.add_argument("--goldens", default="golden_images", metavar="DIR")
+    p.add_argument("--checks", default=os.path.join("out", "golden"), metavar="DIR",
+                   help="where to check a directory of .mtlx first (default: out/golden)")
+    pool(p)
+    p.set_defaults(func=cmd_report)
+
+    p = sub.add_parser("batch", help="render every .mtlx under directories with all cores; print per-material timings")
+    p.add_argument("paths", nargs="+", metavar="PATH", help="directories (searched for .mtlx) or .mtlx files")
+    p.add_argument("-o", "--output", required=True, metavar="DIR")
+    p.add_argument("--size", type=int, default=128)
+    p.add_argument("--env", metavar="FILE", help="lat-long HDR/EXR environment (default: built-in sky)")
+    pool(p)
+    p.set_defaults(func=cmd_batch)
     return ap
 
 

@@ -29,9 +29,14 @@ class Parity:
                                                                      PIXEL_THRESHOLD, self.max)
 
 
-def parity(a, b):
-    """Compare two images (linear float RGBA, or sRGB uint8) on their RGB channels."""
+def diff_map(a, b, channels=3):
+    """Per-pixel max-channel difference of two images (linear float, or sRGB uint8), in 8-bit sRGB steps."""
     a8 = a if a.dtype == np.uint8 else to_srgb8(a)
     b8 = b if b.dtype == np.uint8 else to_srgb8(b)
-    d = np.abs(a8[..., :3].astype(np.int16) - b8[..., :3].astype(np.int16)).max(-1)
+    return np.abs(a8[..., :channels].astype(np.int16) - b8[..., :channels].astype(np.int16)).max(-1)
+
+
+def parity(a, b):
+    """Compare two images (linear float RGBA, or sRGB uint8) on their RGB channels."""
+    d = diff_map(a, b)
     return Parity(float(d.mean()), float((d > PIXEL_THRESHOLD).mean()), int(d.max()))

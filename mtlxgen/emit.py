@@ -16,6 +16,7 @@ from .graph import glsl_identifier, unique_identifier
 from .library import glsl_lib_root
 
 GLSL_VERSION = "400"
+CLOSURE_TYPES = ("BSDF", "EDF", "VDF")
 
 APP_UNIFORMS = {
     "u_worldMatrix": "mat4", "u_viewProjectionMatrix": "mat4", "u_worldInverseTransposeMatrix": "mat4",
@@ -81,6 +82,11 @@ class Emitter:
         self.names = set(graph.uniforms)
         self.textures = {}            # sampler uniform -> extra manifest fields
         self.uses_closures = False
+        self.closure_nodes = {}       # id -> GNode of closure nodes, evaluated per context by shader nodes
+        self.context = None           # closure context being emitted ("reflection", "indirect", ...)
+        self.block = 0                # serial of the current closure block (closure variables live in it)
+        self.closure_vars = {}        # (block, node id, output) -> variable
+        self.indent = 1
 
     # ---------- services for templates and handlers ----------
     def fail(self, node, message):
@@ -175,21 +181,76 @@ class Emitter:
             src = node.inputs[f]
             if src.type in ("string", "geomname") and not src.linked:
                 self.fail(node, "string input '%s' cannot be used as a GLSL value" % f)
+            if src.type in CLOSURE_TYPES and src.node in self.closure_nodes:
+                return self.closure(src, self.context or "indirect")
             return self.expr(src)
         self.fail(node, "implementation template names '%s', which is not an input" % f)
 
     # ---------- nodes ----------
+    # ---------- closures ----------
+    def line(self, text):
+        """Append a statement to main at the current block depth."""
+        self.body.append("    " * self.indent + text)
+
+    def open_block(self, context, comment=None):
+        if comment:
+            self.line("// " + comment)
+        self.line("{")
+        self.indent += 1
+        self.block += 1
+        self._saved = getattr(self, "_saved", []) + [self.context]
+        self.context = context
+
+    def close_block(self):
+        self.indent -= 1
+        self.line("}")
+        self.context = self._saved.pop()
+
+    def closure(self, src, context):
+        """A closure Source evaluated in `context` inside the current block: its upstream closure nodes
+        are emitted first (each once per block); returns the GLSL expression of its value."""
+        self.uses_closures = True
+        if src.node is None or src.node not in self.closure_nodes:
+            return self.expr(src)
+        key = (self.block, src.node, src.output)
+        if key in self.closure_vars:
+            return self.closure_vars[key]
+        node = self.closure_nodes[src.node]
+        impl = nodes.lookup(node.nodedef, self.graph.library)
+        saved, self.context = self.context, context
+        try:
+            if impl.closure is not None:
+                template = impl.closure.get(context)
+                expr = self.render(template, node, src.type) if template else mxtypes.closure_zero(src.type)
+            elif impl.outputs:
+                template = impl.outputs.get(src.output) or impl.outputs.get("*")
+                expr = self.render(template, node, src.type)
+            else:
+                self.fail(node, "closure node without a closure implementation")
+        finally:
+            self.context = saved
+        var = self.fresh("%s_%s" % (node.id, src.output))
+        self.line("%s %s = %s;" % (self.glsl_type(src.type), var, expr))
+        self.closure_vars[key] = var
+        return var
+
     def emit_node(self, node):
         impl = nodes.lookup(node.nodedef, self.graph.library)
         if impl is None:
             self.fail(node, "no GLSL implementation for nodedef %s" % node.nodedef.name)
+        if node.outputs and all(t in CLOSURE_TYPES for t in node.outputs.values()):
+            for f in impl.files:
+                self.require(f)
+            self.closure_nodes[node.id] = node     # evaluated per context by the shader node using it
+            return
         for f in impl.files:
             self.require(f)
         if impl.external is not None:
             exprs = self.external_call(node, impl.external)
         elif impl.handler:
             from .nodes import handlers
-            exprs = getattr(handlers, impl.handler)(node, self)
+            handler = impl.handler if callable(impl.handler) else getattr(handlers, impl.handler)
+            exprs = handler(node, self)
         else:
             exprs = {}
             for oname, otype in node.outputs.items():
@@ -203,7 +264,7 @@ class Emitter:
                 self.vars[(node.id, oname)] = e     # pass-through: no copy
                 continue
             var = self.fresh("%s_%s" % (node.id, oname))
-            self.body.append("    %s %s = %s;" % (self.glsl_type(otype), var, e))
+            self.line("%s %s = %s;" % (self.glsl_type(otype), var, e))
             self.vars[(node.id, oname)] = var
 
     def external_call(self, node, external):
@@ -227,8 +288,17 @@ class Emitter:
 
     # ---------- stages ----------
     def output_statement(self, result):
-        e = self.expr(result)
         t = result.type
+        if t in CLOSURE_TYPES and result.node in self.closure_nodes:
+            from .nodes.pbrlib_shading import shade
+            if t == "EDF":
+                e = shade(self, edf=result, stem="edf")
+            elif t == "BSDF":
+                e = shade(self, bsdf=result, stem="bsdf")
+            else:
+                return "vec4(%s.response, 1.0)" % self.closure(result, "indirect")
+            return "vec4(%s.color, 1.0)" % e
+        e = self.expr(result)
         if t in ("surfaceshader", "material"):
             self.uses_closures = True
             return "vec4(%s.color, clamp(1.0 - dot(%s.transparency, vec3(1.0 / 3.0)), 0.0, 1.0))" % (e, e)

@@ -64,6 +64,7 @@ class Graph:
     structs: dict
     doc_path: str
     library: object = None
+    colorspace: str = None            # the document's working colour space (None: files are not converted)
 
 
 _GLSL_RESERVED = set("""attribute const uniform varying layout centroid flat smooth noperspective patch sample
@@ -411,7 +412,8 @@ class GraphBuilder:
             used_uniforms.add(result.uniform)
         uniforms = {k: u for k, u in self.uniforms.items() if k in used_uniforms}
         return Graph(element=element, kind=kind, result=result, nodes=nodes, uniforms=uniforms,
-                     structs=self.lib.structs, doc_path=self.doc.path, library=self.lib)
+                     structs=self.lib.structs, doc_path=self.doc.path, library=self.lib,
+                     colorspace=self.doc.colorspace)
 
     def _element_result(self, element):
         doc = self.doc

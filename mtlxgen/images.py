@@ -45,6 +45,7 @@ def write_image(path, img):
         data = img.astype(np.float32)
     else:
         spec = oiio.ImageSpec(w, h, c, oiio.UINT8)
+        spec.attribute("oiio:UnassociatedAlpha", 1)     # write the bytes as given: no division by alpha
         data = img if img.dtype == np.uint8 else to_srgb8(img)
     buf = oiio.ImageBuf(spec)
     buf.set_pixels(oiio.ROI(), np.ascontiguousarray(data))

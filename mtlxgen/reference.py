@@ -11,7 +11,7 @@ class ReferenceUnavailable(RuntimeError):
 
 
 class MaterialXReference:
-    def __init__(self, search_dirs=()):
+    def __init__(self, search_dirs=(), color_management=False):
         try:
             import MaterialX as mx
             import MaterialX.PyMaterialXGenGlsl as mx_glsl
@@ -25,6 +25,9 @@ class MaterialXReference:
             self.search.append(d)
         self.lib = mx.createDocument()
         mx.loadLibraries(mx.getDefaultDataLibraryFolders(), self.search, self.lib)
+        # MaterialX applies file colour spaces only with a colour management system registered (as its
+        # viewer does); the bare generator, and so the scoreboard, reads every file as lin_rec709
+        self.color_management = color_management
 
     def load(self, path):
         doc = self.mx.createDocument()
@@ -40,6 +43,10 @@ class MaterialXReference:
         """(vertex, fragment, {sampler: file}, seconds) of MaterialX's GLSL for one element."""
         doc = doc or self.load(path)
         gen = self.mx_glsl.GlslShaderGenerator.create()
+        if self.color_management:
+            cms = self.mx_gen.DefaultColorManagementSystem.create(gen.getTarget())
+            cms.loadLibrary(self.lib)
+            gen.setColorManagementSystem(cms)
         ctx = self.mx_gen.GenContext(gen)
         ctx.registerSourceCodeSearchPath(self.search)
         t = time.perf_counter()

@@ -182,6 +182,15 @@ class Renderer:
                 self._image_cache[path] = None
         return self._image_cache[path]
 
+    def constant_texture(self, value):
+        """A 1x1 texture of an image node's `default` (what a viewer binds when the file cannot be read)."""
+        v = [float(x) for x in (value if isinstance(value, (list, tuple)) else [value])]
+        rgba = {1: v * 3 + [1.0], 2: v + [0.0, 1.0], 3: v + [1.0]}.get(len(v), v[:4])
+        key = ("constant",) + tuple(rgba)
+        if key not in self._image_cache:
+            self._image_cache[key] = self._float_texture(np.array(rgba, dtype="f4").reshape(1, 1, 4), mipmaps=False)
+        return self._image_cache[key]
+
     def render(self, shader, textures=None):
         """Render a Shader (or a (vertex, fragment) pair). Returns linear RGBA float32, row 0 on top."""
         if isinstance(shader, tuple):
@@ -197,13 +206,16 @@ class Renderer:
         prog = ctx.program(vertex_shader=vertex, fragment_shader=fragment)
         t1 = time.perf_counter()
         try:
-            bound = {}
+            bound, defaults = {}, {}
             for tex in (manifest or {}).get("textures", []):
                 bound[tex["uniform"]] = tex.get("file")
+                defaults[tex["uniform"]] = tex.get("default")
             bound.update(textures or {})
             units = [("u_envRadiance", self.env), ("u_envIrradiance", self.irradiance)]
             for name, path in sorted(bound.items()):
                 t = self.image_texture(path) if path else None
+                if t is None and defaults.get(name) is not None:     # unreadable file: its default colour
+                    t = self.constant_texture(defaults[name])
                 if t is not None:
                     units.append((name, t))
             for unit, (name, t) in enumerate(units):

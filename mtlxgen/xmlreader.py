@@ -57,6 +57,8 @@ def parse_text(text, path):
     try:
         if isinstance(text, str):
             text = text.encode("utf-8")
+        # filename tokens are written raw inside attribute values (MaterialX's reader accepts them)
+        text = text.replace(b"<UDIM>", b"&lt;UDIM&gt;").replace(b"<UVTILE>", b"&lt;UVTILE&gt;")
         parser.Parse(text, True)
     except xml.parsers.expat.ExpatError as e:
         raise MtlxError((Loc(path, e.lineno), "malformed XML: %s" % xml.parsers.expat.ErrorString(e.code))) from None

@@ -32,3 +32,16 @@ def reference():
 def library():
     from mtlxgen.library import load_library
     return load_library()
+
+
+# ---------------------------------------------------------------- golden images
+
+def pytest_addoption(parser):
+    parser.addoption("--update-goldens", action="store_true", default=False,
+                     help="rewrite golden_images/ from the current renders instead of checking against them")
+
+
+@pytest.fixture(scope="session")
+def update_goldens(request):
+    """True under `pytest --update-goldens`: golden tests rewrite their goldens, then pass."""
+    return request.config.getoption("--update-goldens")

@@ -15,10 +15,9 @@ CLAIMED = {
     ("stdlib", "organization"), ("stdlib", "application"), ("stdlib", "material"), ("stdlib", "shader"),
     ("stdlib", "procedural"), ("stdlib", "procedural2d"), ("stdlib", "procedural3d"),
     ("stdlib", "adjustment"), ("stdlib", "compositing"), ("nprlib", "npr"),
+    ("stdlib", "texture2d"), ("stdlib", "texture3d"), ("stdlib", "convolution2d"), ("cmlib", "colortransform"),
 }
-PENDING = {
-    "normalmap", "hextilednormalmap", "bump",          # texture work: standard-library issue
-}
+PENDING = set()
 
 
 @pytest.fixture(scope="module")

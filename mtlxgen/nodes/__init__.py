@@ -6,7 +6,10 @@ template (str), or a dict with:
     "expr":    template of the single output           (or)
     "outputs": {output name: template} for multi-output nodes
     "files":   GLSL files under glsl_lib/ the templates call into (each emitted once)
-    "handler": name of a function in handlers.py, for the few nodes that need code
+    "handler": a function (or the name of one in handlers.py), for the few nodes that need code
+    "closure": {context: template} for BSDF / EDF / VDF nodes, evaluated by the shader node that uses
+               them once per context ("reflection" per light, "indirect" for the environment,
+               "transmission", "emission"); a context without a template gives the empty closure
 An optional `NODEDEFS` table keyed by nodedef name overrides the category entry for one signature.
 
 Template fields (MaterialX's inline syntax, extended):
@@ -29,7 +32,8 @@ _MODULES = [importlib.import_module("%s.%s" % (__name__, m.name)) for m in sorte
 class Impl:
     outputs: dict = field(default_factory=dict)   # output name ("*" = the single output) -> template
     files: tuple = ()
-    handler: str = None
+    handler: object = None
+    closure: dict = None                          # context -> template (closure nodes)
     external: tuple = None                        # (GLSL file path, function) from a document's <implementation>
     origin: str = "mtlxgen"
 
@@ -40,7 +44,8 @@ def _normalize(entry, origin):
     outputs = dict(entry.get("outputs", {}))
     if "expr" in entry:
         outputs["*"] = entry["expr"]
-    return Impl(outputs=outputs, files=tuple(entry.get("files", ())), handler=entry.get("handler"), origin=origin)
+    return Impl(outputs=outputs, files=tuple(entry.get("files", ())), handler=entry.get("handler"),
+                closure=entry.get("closure"), origin=origin)
 
 
 BY_CATEGORY, BY_NODEDEF = {}, {}

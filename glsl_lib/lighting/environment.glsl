@@ -1,0 +1,27 @@
+// requires: constants.glsl
+// Image-based lighting from a lat-long environment (interface.md): u = atan(d.x, -d.z) / 2pi + 0.5,
+// v = -asin(d.y) / pi + 0.5 of the direction d after u_envMatrix; row 0 of the image is the top.
+uniform mat4 u_envMatrix = mat4(-1.0, 0.0, 0.0, 0.0,  0.0, 1.0, 0.0, 0.0,  0.0, 0.0, -1.0, 0.0,  0.0, 0.0, 0.0, 1.0);
+uniform sampler2D u_envRadiance;
+uniform sampler2D u_envIrradiance;
+uniform float u_envLightIntensity = 1.0;
+uniform int u_envRadianceMips = 1;
+uniform int u_envRadianceSamples = 16;
+
+vec2 mg_latlong_uv(vec3 dir)
+{
+    vec3 d = (u_envMatrix * vec4(dir, 0.0)).xyz;
+    return vec2(atan(d.x, -d.z) / MG_TWO_PI + 0.5, -asin(clamp(d.y, -1.0, 1.0)) / MG_PI + 0.5);
+}
+
+// Radiance arriving from direction dir, read at a mip level (0 = sharpest).
+vec3 mg_env_radiance(vec3 dir, float lod)
+{
+    return textureLod(u_envRadiance, mg_latlong_uv(dir), lod).rgb * u_envLightIntensity;
+}
+
+// Cosine-weighted irradiance over the hemisphere about n, divided by pi (the diffuse reflectance's scale).
+vec3 mg_env_irradiance(vec3 n)
+{
+    return texture(u_envIrradiance, mg_latlong_uv(n)).rgb * u_envLightIntensity;
+}

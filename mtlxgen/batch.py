@@ -1,0 +1,239 @@
+"""Batch rendering: many materials, all cores, per-material timings.
+
+A job is one .mtlx file and the elements to render from it, plus the RenderSettings to render them
+with. Jobs run in a process pool ("spawn" start method, so no process ever inherits a GL context);
+each worker opens one headless GL context per distinct settings and keeps it for its lifetime.
+With workers=1 (or a single small job) everything runs in this process, with the same per-process
+renderer cache, so repeated calls (tests) pay for a context only once.
+
+Every rendered element comes back as an Item: the linear RGBA float32 image (row 0 on top), or the
+error lines that stopped it, and its timings (document load, generation, program link, draw).
+"""
+import concurrent.futures
+import inspect
+import multiprocessing
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .diagnostics import Loc, MtlxError
+
+BUILTIN_SKY = "builtin_sky"
+CHUNK = 16          # elements per pool task: big files are split so the pool stays balanced
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """What a render depends on besides the material. `environment` is BUILTIN_SKY or an image path."""
+    size: int = 128
+    environment: str = BUILTIN_SKY
+    env_samples: int = 64
+
+    def to_dict(self):
+        """The record kept with each golden: these fields plus the fixed scene of the harness."""
+        from . import render
+        sphere_args = inspect.signature(render.sphere).parameters
+        return {"size": self.size, "environment": self.environment, "samples": self.env_samples,
+                "lights": [],
+                "geometry": {"shape": "uv_sphere", "radius": 1.0,
+                             "segments": [sphere_args["n_lon"].default, sphere_args["n_lat"].default]},
+                "camera": {"eye": list(render.EYE), "target": [0.0, 0.0, 0.0], "fov_y": render.FOV_Y}}
+
+    @classmethod
+    def from_dict(cls, d):
+        d = d or {}
+        return cls(size=int(d.get("size", cls.size)), environment=d.get("environment") or BUILTIN_SKY,
+                   env_samples=int(d.get("samples", cls.env_samples)))
+
+
+@dataclass(frozen=True)
+class Job:
+    path: str
+    elements: tuple = ()            # empty: every renderable element of the file
+    settings: RenderSettings = RenderSettings()
+
+
+@dataclass
+class Item:
+    path: str
+    element: str
+    settings: RenderSettings
+    image: np.ndarray = None        # linear RGBA float32, row 0 on top; None when it failed
+    error: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+    pid: int = 0
+    gl_renderer: str = ""
+
+    @property
+    def ok(self):
+        return self.image is not None
+
+
+# ---------------------------------------------------------------- per-process state
+
+_RENDERERS = {}
+
+
+def renderer_for(settings):
+    """This process's renderer for these settings (created on first use, kept until exit)."""
+    r = _RENDERERS.get(settings)
+    if r is None:
+        from . import render
+        env = None
+        if settings.environment and settings.environment != BUILTIN_SKY:
+            env = render.load_environment(settings.environment)
+        r = render.Renderer(size=settings.size, environment=env, env_samples=settings.env_samples)
+        _RENDERERS[settings] = r
+    return r
+
+
+def list_elements(path, library_dirs=()):
+    """Renderable element name paths of a file, in document order (raises MtlxError)."""
+    from . import graph, pipeline
+    return graph.renderable_elements(pipeline.load_document(path, library_dirs))
+
+
+def _error_lines(e):
+    return list(e.lines()) if isinstance(e, MtlxError) else ["%s: %s" % (type(e).__name__, e)]
+
+
+def run_job(job, library_dirs=()):
+    """Render one job in this process. Never raises for bad input: failures become Items with errors."""
+    from . import emit, graph, library, pipeline
+    items = []
+    try:
+        lib = library.load_library(library_dirs)     # once per process (memoized): not a material's cost
+        t0 = time.perf_counter()
+        doc = pipeline.load_document(job.path, library_dirs)
+        names = list(job.elements) or graph.renderable_elements(doc)
+        if not names:
+            raise MtlxError((Loc(job.path, 1), "nothing to render: no material, shader or output elements"))
+    except Exception as e:  # the file as a whole
+        return [Item(job.path, el, job.settings, error=_error_lines(e), pid=os.getpid())
+                for el in (job.elements or ("",))]
+    load_s = time.perf_counter() - t0
+    try:
+        r = renderer_for(job.settings)
+        gl = r.ctx.info.get("GL_RENDERER", "")
+    except Exception as e:
+        return [Item(job.path, n, job.settings, error=_error_lines(e), pid=os.getpid()) for n in names]
+    for name in names:
+        item = Item(job.path, name, job.settings, pid=os.getpid(), gl_renderer=gl)
+        t1 = time.perf_counter()
+        try:
+            shader = emit.emit(graph.build_graph(doc, lib, name))
+            t2 = time.perf_counter()
+            item.image, gl_times = r.render_timed(shader.vertex, shader.fragment, shader.manifest)
+            item.timings = {"load_s": load_s, "generate_s": t2 - t1, **gl_times,
+                            "total_s": time.perf_counter() - t1 + load_s / len(names)}
+        except Exception as e:
+            item.error = _error_lines(e)
+            item.timings = {"load_s": load_s, "total_s": time.perf_counter() - t1}
+        items.append(item)
+    return items
+
+
+def _split(jobs, library_dirs):
+    """Jobs with an explicit element list, at most CHUNK elements each (so the pool can balance)."""
+    out = []
+    for job in jobs:
+        names = list(job.elements)
+        if not names:
+            try:
+                names = list_elements(job.path, library_dirs)
+            except Exception:
+                out.append(job)         # run_job reports the error
+                continue
+        for i in range(0, max(len(names), 1), CHUNK):
+            out.append(Job(job.path, tuple(names[i:i + CHUNK]), job.settings))
+    return out
+
+
+def default_workers():
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:
+        return max(1, os.cpu_count() or 1)
+
+
+def render_jobs(jobs, workers=None, progress=None, library_dirs=()):
+    """Render all jobs; returns [Item] in job order. `progress`: a Progress, True/False, or None (auto)."""
+    tasks = _split(jobs, library_dirs)
+    total = sum(len(t.elements) or 1 for t in tasks)
+    bar = progress if isinstance(progress, Progress) else Progress(total, "render", enabled=progress)
+    workers = default_workers() if workers is None else max(1, int(workers))
+    workers = min(workers, len(tasks)) or 1
+    results = [None] * len(tasks)
+    if workers == 1:
+        for i, task in enumerate(tasks):
+            results[i] = run_job(task, library_dirs)
+            bar.advance(len(results[i]), os.path.basename(task.path))
+    else:
+        ctx = multiprocessing.get_context("spawn")
+        with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+            futures = {pool.submit(run_job, task, tuple(library_dirs)): i for i, task in enumerate(tasks)}
+            for fut in concurrent.futures.as_completed(futures):
+                i = futures[fut]
+                try:
+                    results[i] = fut.result()
+                except Exception as e:  # a worker died (GL crash, out of memory)
+                    results[i] = [Item(tasks[i].path, el, tasks[i].settings, error=_error_lines(e))
+                                  for el in (tasks[i].elements or ("",))]
+                bar.advance(len(results[i]), os.path.basename(tasks[i].path))
+    bar.close()
+    return [item for chunk in results for item in chunk]
+
+
+def timing_table(rows):
+    """Plain-text timing table of (label, timings dict, ok) rows, slowest first, with a total line."""
+    rows = sorted(rows, key=lambda row: -row[1].get("total_s", 0.0))
+    lines = ["%9s %9s %9s %9s  %s" % ("total ms", "gen ms", "link ms", "draw ms", "material")]
+    for label, t, ok in rows:
+        ms = lambda k: ("%9.1f" % (1000 * t[k])) if k in t else "%9s" % "-"
+        lines.append("%s %s %s %s  %s%s" % (ms("total_s"), ms("generate_s"), ms("link_s"), ms("draw_s"), label,
+                                            "" if ok else "  (failed)"))
+    lines.append("%9.1f  in all, %d materials" % (1000 * sum(t.get("total_s", 0.0) for _, t, _ in rows), len(rows)))
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------- progress bar
+
+class Progress:
+    """A progress bar on stderr: redrawn in place on a terminal, a line per ~10% otherwise.
+
+    enabled=None shows it when there are at least 8 steps (a "long run")."""
+
+    def __init__(self, total, label="", stream=None, enabled=None, width=30):
+        self.total, self.label, self.width = max(int(total), 0), label, width
+        self.stream = stream or sys.stderr
+        self.enabled = (self.total >= 8) if enabled is None else bool(enabled)
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.done, self.t0, self._last_tenth = 0, time.perf_counter(), -1
+        self._drawn = False
+
+    def advance(self, n=1, what=""):
+        self.done += n
+        if not self.enabled or not self.total:
+            return
+        frac = min(self.done / self.total, 1.0)
+        elapsed = time.perf_counter() - self.t0
+        if self.tty:
+            fill = int(round(frac * self.width))
+            line = "\r%s [%s%s] %d/%d %5.1fs %s" % (self.label, "#" * fill, "." * (self.width - fill), self.done,
+                                                    self.total, elapsed, what[:30])
+            self.stream.write(line.ljust(100)[:100])
+            self._drawn = True
+        else:
+            tenth = int(frac * 10)
+            if tenth != self._last_tenth:
+                self._last_tenth = tenth
+                self.stream.write("%s: %d/%d (%d%%) %.1fs\n" % (self.label, self.done, self.total, 100 * frac, elapsed))
+        self.stream.flush()
+
+    def close(self):
+        if self.enabled and self.tty and self._drawn:
+            self.stream.write("\n")
+            self.stream.flush()

@@ -1,0 +1,461 @@
+"""Golden-image regression: render materials, compare them with stored goldens, or rewrite the goldens.
+
+Layout of a golden directory (default ./golden_images):
+
+    index.json                      one entry per golden: source file, element, render settings
+    <file stem>__<element>.png      the golden, sRGB 8-bit RGBA (alpha linear), as `render` writes it
+    <file stem>__<element>.exr      the linear render (half float), only where HDR matters: when some
+                                    RGB value lies outside [0, 1] and the PNG therefore clips it
+
+Element paths name goldens with "/" replaced by "_" (NG_waves/waves -> math_outputs__NG_waves_waves).
+Sources are stored relative to the golden directory's parent (the project root).
+
+The metric (defaults below, overridable per run and per golden with a "tolerance" object in the
+index): per pixel the max-channel difference over R, G, B and A in 8-bit sRGB steps
+(compare.diff_map); a pixel fails when it exceeds THRESHOLD; a golden fails when more than
+MAX_FRACTION of its pixels fail. With an EXR golden the linear values must also agree: a pixel fails
+when its largest relative difference exceeds HDR_RELATIVE. NVIDIA's FLIP (the `flip-evaluator`
+package) is computed as a perceptual score for every golden that differs at all; it gates only when
+a FLIP limit is set. The scoreboard's parity verdict (compare.parity) is recorded alongside.
+"""
+import json
+import os
+import shutil
+import tempfile
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from . import batch, compare
+from .batch import RenderSettings
+from .diagnostics import Loc, MtlxError
+from .images import read_image, to_srgb8, write_image
+
+INDEX_NAME = "index.json"
+INDEX_VERSION = 1
+DEFAULT_DIR = "golden_images"
+DEFAULT_OUT = os.path.join("out", "golden")
+
+THRESHOLD = 2            # 8-bit sRGB steps a pixel may differ by (max over channels) before it fails
+MAX_FRACTION = 0.0       # share of pixels allowed to fail: none, so one changed pixel is caught
+HDR_RELATIVE = 0.01      # EXR goldens: relative difference |new - golden| / max(1, |golden|) per channel
+FLIP_LIMIT = None        # mean FLIP error allowed (None: FLIP is reported, not gated)
+HDR_EPS = 1e-3
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    threshold: int = THRESHOLD
+    max_fraction: float = MAX_FRACTION
+    hdr_relative: float = HDR_RELATIVE
+    flip: float = FLIP_LIMIT
+
+    def merged(self, overrides):
+        """This tolerance with the fields named in an index entry's "tolerance" object replaced."""
+        if not overrides:
+            return self
+        d = asdict(self)
+        d.update({k: v for k, v in overrides.items() if k in d})
+        return Tolerance(**d)
+
+
+def golden_name(path, element):
+    stem = os.path.splitext(os.path.basename(path))[0]
+    return "%s__%s" % (stem, element.replace("/", "_"))
+
+
+def is_hdr(img):
+    rgb = img[..., :3]
+    return bool(np.any(rgb > 1.0 + HDR_EPS) or np.any(rgb < -HDR_EPS))
+
+
+# ---------------------------------------------------------------- FLIP
+
+def flip_module():
+    """(flip_evaluator module, None) or (None, why it is unavailable)."""
+    try:
+        import flip_evaluator
+        flip_evaluator.evaluate  # noqa: B018  (an old or broken install lacks it)
+        return flip_evaluator, None
+    except Exception as e:
+        return None, ("FLIP score unavailable: cannot import flip_evaluator (pip install flip-evaluator): %s"
+                      % (str(e).strip() or type(e).__name__))
+
+
+def flip_score(golden8, new8):
+    """Mean LDR FLIP error of two sRGB 8-bit images and its magma heat map (uint8 RGB).
+
+    Returns (mean, heat map) or (None, None) when flip_evaluator cannot be imported."""
+    flip, _ = flip_module()
+    if flip is None:
+        return None, None
+    ref = np.ascontiguousarray(golden8[..., :3], dtype=np.float32) / 255.0
+    test = np.ascontiguousarray(new8[..., :3], dtype=np.float32) / 255.0
+    err, mean, _ = flip.evaluate(ref, test, "LDR", applyMagma=True)
+    heat = (np.clip(np.asarray(err, dtype=np.float32), 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
+    return float(mean), heat
+
+
+# ---------------------------------------------------------------- metric
+
+def measure(new, golden8, golden_exr=None, tolerance=Tolerance(), flip=True):
+    """Compare a linear render with a golden (sRGB 8-bit, plus its linear EXR if it has one).
+
+    Returns (metrics dict, diff map of 8-bit steps, FLIP heat map or None)."""
+    new8 = to_srgb8(new)
+    if new8.shape[:2] != golden8.shape[:2]:
+        return {"size_mismatch": "render %dx%d, golden %dx%d" % (new8.shape[1], new8.shape[0], golden8.shape[1],
+                                                                  golden8.shape[0])}, None, None
+    channels = min(new8.shape[-1], golden8.shape[-1])
+    d = compare.diff_map(new8, golden8, channels)
+    over = d > tolerance.threshold
+    p = compare.parity(new8, golden8)
+    m = {"mean": round(float(d.mean()), 4), "max": int(d.max()), "failing_pixels": int(over.sum()),
+         "fraction": float(over.mean()), "pixels": int(d.size), "threshold": tolerance.threshold,
+         "parity": str(p), "parity_passes": bool(p.passes)}
+    if golden_exr is not None and golden_exr.shape[:2] == new.shape[:2]:
+        c = min(new.shape[-1], golden_exr.shape[-1])
+        stored = new[..., :c].astype(np.float16).astype(np.float32)    # the precision the EXR keeps
+        ref = golden_exr[..., :c]
+        rel = (np.abs(stored - ref) / np.maximum(1.0, np.abs(ref))).max(-1)
+        m["hdr_fraction"] = float((rel > tolerance.hdr_relative).mean())
+        m["hdr_max_relative"] = round(float(rel.max()), 6)
+    heat = None
+    if flip:
+        if m["max"] == 0:
+            m["flip"] = 0.0                    # identical pixels: FLIP is zero by definition
+        else:
+            m["flip"], heat = flip_score(golden8, new8)
+    return m, d, heat
+
+
+def verdict(metrics, tolerance):
+    """(passes, [reasons it fails])."""
+    if "size_mismatch" in metrics:
+        return False, ["size differs: %s" % metrics["size_mismatch"]]
+    why = []
+    if metrics["fraction"] > tolerance.max_fraction:
+        why.append("%d %s (%.3f%%) by more than %d/255 (max %d/255; allowed %.3f%%)"
+                   % (metrics["failing_pixels"], "pixel differs" if metrics["failing_pixels"] == 1 else "pixels differ",
+                      100 * metrics["fraction"], tolerance.threshold, metrics["max"], 100 * tolerance.max_fraction))
+    if metrics.get("hdr_fraction", 0.0) > tolerance.max_fraction:
+        why.append("linear EXR: %.3f%% of pixels differ by more than %g relative (max %g)"
+                   % (100 * metrics["hdr_fraction"], tolerance.hdr_relative, metrics["hdr_max_relative"]))
+    if tolerance.flip is not None and metrics.get("flip") is not None and metrics["flip"] > tolerance.flip:
+        why.append("FLIP %.5f above %.5f" % (metrics["flip"], tolerance.flip))
+    return not why, why
+
+
+def heat_map(d, golden8, threshold):
+    """Diff visualisation (uint8 RGB): the golden dimmed to grey; differing pixels from dark red
+    (1 step) to yellow (32+ steps); pixels over the threshold at least bright red."""
+    grey = golden8[..., :3].astype(np.float32).mean(-1) * 0.3
+    out = np.stack([grey] * 3, -1)
+    t = np.clip(d / 32.0, 0.0, 1.0)
+    color = np.stack([96 + 159 * np.minimum(1.0, 3 * t), 255 * np.clip(1.5 * t - 0.5, 0, 1),
+                      255 * np.clip(3 * t - 2, 0, 1)], -1)
+    color[d > threshold, 0] = 255
+    out = np.where((d > 0)[..., None], color, out)
+    failing = np.argwhere(d > threshold)
+    if 0 < len(failing) <= 64:           # a few isolated pixels: ring each so a reviewer can find it
+        h, w = d.shape
+        for y, x in failing:
+            y0, y1, x0, x1 = max(y - 4, 0), min(y + 4, h - 1), max(x - 4, 0), min(x + 4, w - 1)
+            for ys, xs in ((slice(y0, y1 + 1), x0), (slice(y0, y1 + 1), x1), (y0, slice(x0, x1 + 1)),
+                           (y1, slice(x0, x1 + 1))):
+                out[ys, xs] = np.where((d[ys, xs] > 0)[..., None], out[ys, xs], (0.0, 255.0, 255.0))
+    return (np.clip(out, 0, 255) + 0.5).astype(np.uint8)
+
+
+def read_png8(path):
+    """A golden PNG's stored bytes as uint8 HxWxC (colour not multiplied by alpha on the way in)."""
+    import OpenImageIO as oiio
+    config = oiio.ImageSpec()
+    config.attribute("oiio:UnassociatedAlpha", 1)
+    buf = oiio.ImageBuf(path, 0, 0, config)
+    px = None if buf.has_error else buf.get_pixels(oiio.UINT8)
+    if px is None or buf.has_error:
+        raise MtlxError((Loc(path, 0), "cannot read golden image: %s" % buf.geterror().strip()))
+    px = np.asarray(px, dtype=np.uint8)
+    return px[..., None] if px.ndim == 2 else px
+
+
+# ---------------------------------------------------------------- index
+
+class Index:
+    """golden_images/index.json: {"version": 1, "goldens": {name: entry}}."""
+
+    def __init__(self, golden_dir=DEFAULT_DIR):
+        self.dir = os.path.abspath(golden_dir)
+        self.root = os.path.dirname(self.dir)
+        self.path = os.path.join(self.dir, INDEX_NAME)
+        self.goldens = self._read()
+
+    def _read(self):
+        if not os.path.exists(self.path):
+            return {}
+        try:
+            with open(self.path) as f:
+                data = json.load(f)
+        except (OSError, ValueError) as e:
+            raise MtlxError((Loc(self.path, 1), "cannot read golden index: %s" % e))
+        if not isinstance(data, dict) or not isinstance(data.get("goldens", {}), dict):
+            raise MtlxError((Loc(self.path, 1), "golden index must be an object with a 'goldens' object"))
+        return data.get("goldens", {})
+
+    def rel(self, path):
+        return os.path.relpath(os.path.abspath(path), self.root).replace(os.sep, "/")
+
+    def source(self, entry):
+        return os.path.normpath(os.path.join(self.root, entry["source"]))
+
+    def file(self, name):
+        return os.path.join(self.dir, name)
+
+    def save(self, changed, removed=()):
+        """Re-read the index, apply these entries, write it atomically (sorted, stable formatting)."""
+        goldens = self._read()
+        goldens.update(changed)
+        for name in removed:
+            goldens.pop(name, None)
+        os.makedirs(self.dir, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=".index.", dir=self.dir)
+        with os.fdopen(fd, "w") as f:
+            json.dump({"version": INDEX_VERSION, "goldens": goldens}, f, indent=1, sort_keys=True)
+            f.write("\n")
+        os.replace(tmp, self.path)
+        self.goldens = goldens
+
+
+@dataclass
+class Target:
+    path: str          # absolute .mtlx path
+    element: str
+    name: str
+    entry: dict = None  # the index entry, None when there is no golden yet
+    error: list = None  # why the target could not even be listed
+
+
+def _expand(paths):
+    files = []
+    for p in paths:
+        if os.path.isdir(p):
+            for base, dirs, names in os.walk(p):
+                dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+                files += [os.path.join(base, n) for n in sorted(names) if n.endswith(".mtlx")]
+        elif os.path.exists(p):
+            files.append(p)
+        elif ":" in p and os.path.exists(p.rsplit(":", 1)[0]):
+            files.append(p)          # FILE.mtlx:ELEMENT
+        else:
+            raise MtlxError((Loc(p, 0), "no such file or directory"))
+    return files
+
+
+def targets(index, paths=None, library_dirs=()):
+    """What to check or update: every golden in the index, or every renderable element in PATHS
+    (files, directories searched for .mtlx, or FILE.mtlx:ELEMENT)."""
+    if not paths:
+        return [Target(index.source(e), e["element"], name, e) for name, e in sorted(index.goldens.items())]
+    out, seen = [], {}
+    for spec in _expand(paths):
+        path, elements = spec, None
+        if not os.path.exists(spec):
+            path, element = spec.rsplit(":", 1)
+            elements = [element]
+        path = os.path.abspath(path)
+        if elements is None:
+            try:
+                elements = batch.list_elements(path, library_dirs)
+            except MtlxError as e:
+                out.append(Target(path, "", golden_name(path, ""), None, e.lines()))
+                continue
+        for element in elements:
+            name = golden_name(path, element)
+            entry = index.goldens.get(name)
+            if name in seen and seen[name] != path:
+                out.append(Target(path, element, name, None,
+                                  ["%s:1: golden name %s is also used by %s; rename one of the files"
+                                   % (path, name, seen[name])]))
+                continue
+            seen[name] = path
+            if entry is not None and index.source(entry) != path:
+                out.append(Target(path, element, name, None,
+                                  ["%s:1: golden %s belongs to %s, not this file; rename one of them"
+                                   % (path, name, entry["source"])]))
+                continue
+            out.append(Target(path, element, name, entry))
+    return out
+
+
+def _jobs(tgts, settings_for):
+    """Group targets into batch jobs (one per file and settings)."""
+    groups = {}
+    for t in tgts:
+        if t.error is None:
+            groups.setdefault((t.path, settings_for(t)), []).append(t.element)
+    return [batch.Job(path, tuple(elements), settings) for (path, settings), elements in groups.items()]
+
+
+# ---------------------------------------------------------------- check
+
+@dataclass
+class CheckRun:
+    results: list      # dicts, in target order (see _result)
+    out_dir: str
+    notes: list        # e.g. FLIP unavailable, renderer differs from the goldens'
+
+    @property
+    def ok(self):
+        return all(r["status"] == "pass" for r in self.results)
+
+    def counts(self):
+        c = {"pass": 0, "fail": 0, "missing": 0, "error": 0}
+        for r in self.results:
+            c[r["status"]] += 1
+        return c
+
+
+def _result(t, index, status, message=(), metrics=None, timings=None, files=None, settings=None):
+    return {"name": t.name, "source": index.rel(t.path), "element": t.element, "status": status,
+            "message": list(message), "metrics": metrics or {}, "timings": timings or {},
+            "files": files or {}, "settings": settings or {}}
+
+
+def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tolerance(), workers=None,
+          progress=None, flip=True, library_dirs=()):
+    """Render and compare. Writes, per material, NAME.new.png, NAME.golden.png, NAME.diff.png (and
+    NAME.flip.png, NAME.new.exr where they apply) side by side in out_dir, plus results.json."""
+    index = Index(golden_dir)
+    tgts = targets(index, paths, library_dirs)
+    notes = []
+    if flip:
+        mod, why = flip_module()
+        if mod is None:
+            notes.append(why)
+    settings_for = lambda t: RenderSettings.from_dict(t.entry.get("settings")) if t.entry else RenderSettings()
+    tgts_render = [t for t in tgts if t.error is None and t.entry is not None]
+    items = batch.render_jobs(_jobs(tgts_render, settings_for), workers=workers, progress=progress,
+                              library_dirs=library_dirs)
+    by_key = {(os.path.abspath(it.path), it.element): it for it in items}
+    os.makedirs(out_dir, exist_ok=True)
+    results, renderers = [], set()
+    for t in tgts:
+        if t.error is not None:
+            results.append(_result(t, index, "error", t.error))
+            continue
+        if t.entry is not None and not os.path.exists(t.path):
+            results.append(_result(t, index, "error", [
+                "%s:0: the source of golden %s is gone; restore it, or delete the golden's entry from %s"
+                % (index.rel(t.path), t.name, index.rel(index.path))]))
+            continue
+        if t.entry is None:
+            results.append(_result(t, index, "missing", [
+                "no golden %s in %s; create it with: mtlxgen golden update %s:%s"
+                % (t.name, index.rel(index.dir), index.rel(t.path), t.element)]))
+            continue
+        it = by_key.get((t.path, t.element))
+        settings = t.entry.get("settings", {})
+        if it is None or not it.ok:
+            results.append(_result(t, index, "error", it.error if it else ["not rendered"],
+                                   timings=it.timings if it else None, settings=settings))
+            continue
+        if it.gl_renderer and t.entry.get("gl_renderer") and it.gl_renderer != t.entry["gl_renderer"]:
+            renderers.add((it.gl_renderer, t.entry["gl_renderer"]))
+        tol = tolerance.merged(t.entry.get("tolerance"))
+        files = {"new": t.name + ".new.png", "golden": t.name + ".golden.png", "diff": t.name + ".diff.png"}
+        golden_png = index.file(t.entry["png"])
+        message = []
+        if _scene_changed(settings):
+            message.append("the harness scene (geometry/camera/lights) differs from the one this golden was "
+                           "made with; review and run mtlxgen golden update")
+        try:
+            golden8 = read_png8(golden_png)
+            golden_exr = read_image(index.file(t.entry["exr"])) if t.entry.get("exr") else None
+        except MtlxError as e:
+            results.append(_result(t, index, "error", e.lines(), timings=it.timings, settings=settings))
+            continue
+        metrics, d, flip_heat = measure(it.image, golden8, golden_exr, tol, flip)
+        passes, why = verdict(metrics, tol)
+        passes = passes and not message
+        write_image(os.path.join(out_dir, files["new"]), to_srgb8(it.image))
+        if golden_exr is not None or is_hdr(it.image):
+            files["new_exr"] = t.name + ".new.exr"
+            write_image(os.path.join(out_dir, files["new_exr"]), it.image)
+        shutil.copyfile(golden_png, os.path.join(out_dir, files["golden"]))
+        if d is not None:
+            write_image(os.path.join(out_dir, files["diff"]), heat_map(d, golden8, tol.threshold))
+        else:
+            files.pop("diff")
+        if flip_heat is not None:
+            files["flip"] = t.name + ".flip.png"
+            write_image(os.path.join(out_dir, files["flip"]), flip_heat)
+        results.append(_result(t, index, "pass" if passes else "fail", message + why, metrics, it.timings,
+                               files, settings))
+    for new_gl, old_gl in sorted(renderers):
+        notes.append("goldens were made with the GL renderer '%s', this run used '%s': small differences "
+                     "are expected across drivers" % (old_gl, new_gl))
+    run = CheckRun(results, os.path.abspath(out_dir), notes)
+    with open(os.path.join(out_dir, "results.json"), "w") as f:
+        json.dump({"golden_dir": index.dir, "tolerance": asdict(tolerance), "notes": notes, "results": results},
+                  f, indent=1, sort_keys=True)
+        f.write("\n")
+    return run
+
+
+def _scene_changed(recorded):
+    """True when a golden's recorded scene (not the per-golden settings) differs from today's harness."""
+    if not recorded:
+        return False
+    now = RenderSettings.from_dict(recorded).to_dict()
+    return any(recorded.get(k) != now[k] for k in ("geometry", "camera", "lights") if k in recorded)
+
+
+# ---------------------------------------------------------------- update
+
+def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, progress=None, library_dirs=()):
+    """Render and (re)write goldens. `settings` (RenderSettings) overrides what each golden recorded;
+    new goldens get RenderSettings() by default. Returns [(name, status, message lines)] with status
+    created, updated, unchanged or error; the index is saved once at the end."""
+    index = Index(golden_dir)
+    tgts = targets(index, paths, library_dirs)
+
+    def settings_for(t):
+        if settings is not None:
+            return settings
+        return RenderSettings.from_dict(t.entry.get("settings")) if t.entry else RenderSettings()
+
+    items = batch.render_jobs(_jobs(tgts, settings_for), workers=workers, progress=progress,
+                              library_dirs=library_dirs)
+    by_key = {(os.path.abspath(it.path), it.element): it for it in items}
+    os.makedirs(index.dir, exist_ok=True)
+    out, changed = [], {}
+    for t in tgts:
+        it = by_key.get((t.path, t.element))
+        if t.error is not None or it is None or not it.ok:
+            out.append((t.name, "error", t.error or (it.error if it else ["not rendered"])))
+            continue
+        img8 = to_srgb8(it.image)
+        entry = {"source": index.rel(t.path), "element": t.element, "png": t.name + ".png",
+                 "exr": t.name + ".exr" if is_hdr(it.image) else None,
+                 "settings": it.settings.to_dict(), "gl_renderer": it.gl_renderer}
+        if t.entry and t.entry.get("tolerance"):
+            entry["tolerance"] = t.entry["tolerance"]
+        png, exr = index.file(entry["png"]), index.file(t.name + ".exr")
+        same = (t.entry is not None and os.path.exists(png)
+                and {k: t.entry.get(k) for k in entry} == entry and np.array_equal(read_png8(png), img8)
+                and (entry["exr"] is None or (os.path.exists(exr) and np.array_equal(
+                    read_image(exr), it.image.astype(np.float16).astype(np.float32)))))
+        if same:
+            out.append((t.name, "unchanged", []))
+            continue
+        write_image(png, img8)
+        if entry["exr"]:
+            write_image(exr, it.image)
+        elif os.path.exists(exr):
+            os.remove(exr)
+        changed[t.name] = entry
+        out.append((t.name, "updated" if t.entry else "created", ["%s" % os.path.relpath(png)]))
+    if changed:
+        index.save(changed)
+    return out

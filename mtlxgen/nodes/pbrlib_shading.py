@@ -1,0 +1,77 @@
+"""Shader nodes that light closures (MaterialX Specification 1.39, pbrlib "surface"), and the
+closure-combining nodes.
+
+A surface evaluates its BSDF graph once per context: "reflection" for each direct light (mg_L is the
+direction to the light), "indirect" for the environment, "transmission" for what is seen through
+it, and its EDF in "emission". Closure templates may read the block's mg_L, mg_V, mg_P and
+mg_occlusion. Opacity scales the colour and blends the transparency towards 1.
+"""
+
+LIGHTING_FILES = ["closures.glsl", "lighting/environment.glsl", "lighting/lights.glsl"]
+
+
+def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface"):
+    """Emit the lighting of a BSDF and/or EDF Source; returns the surfaceshader variable."""
+    for f in LIGHTING_FILES:
+        em.require(f)
+    em.app_uniform("u_viewPosition")
+    out = em.fresh(stem + "_out")
+    em.line("surfaceshader %s = surfaceshader(vec3(0.0), vec3(0.0));" % out)
+    em.open_block(None)
+    em.line("vec3 mg_P = %s;" % em.stream("position_world"))
+    em.line("vec3 mg_V = normalize(u_viewPosition - mg_P);")
+    em.line("vec3 mg_L = vec3(0.0);")
+    em.line("float mg_occlusion = 1.0;")
+    if bsdf is not None and bsdf.linked:
+        em.line("for (int mg_i = 0; mg_i < min(u_numActiveLightSources, MG_MAX_LIGHTS); ++mg_i)")
+        em.open_block("reflection")
+        em.line("vec3 mg_light;")
+        em.line("mg_sample_light(u_lightData[mg_i], mg_P, mg_L, mg_light);")
+        em.line("%s.color += mg_light * %s.response;" % (out, em.closure(bsdf, "reflection")))
+        em.close_block()
+        em.open_block("indirect", "environment")
+        em.line("%s.color += mg_occlusion * %s.response;" % (out, em.closure(bsdf, "indirect")))
+        em.close_block()
+        em.open_block("transmission", "seen through the surface")
+        em.line("%s.color += %s.response;" % (out, em.closure(bsdf, "transmission")))
+        em.close_block()
+    if edf is not None and edf.linked:
+        em.open_block("emission", "emission")
+        em.line("%s.color += %s;" % (out, em.closure(edf, "emission")))
+        em.close_block()
+    if opacity != "1.0":
+        em.line("%s.color *= %s;" % (out, opacity))
+        em.line("%s.transparency = mix(vec3(1.0), %s.transparency, %s);" % (out, out, opacity))
+    em.close_block()
+    return out
+
+
+def surface(node, em):
+    out = shade(em, node.inputs["bsdf"], node.inputs["edf"], em.input_expr(node, "opacity"), node.id)
+    return {"out": out}
+
+
+_COMBINE = ["pbrlib/closures_combine.glsl"]
+
+NODES = {
+    "surface": {"handler": surface},
+    "oren_nayar_diffuse_bsdf": {
+        "closure": {
+            "reflection": "mg_oren_nayar_reflection(mg_L, mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}})",
+            "indirect": "mg_oren_nayar_indirect(mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}})",
+        },
+        "files": ["pbrlib/bsdf/oren_nayar.glsl"]},
+    "uniform_edf": {"closure": {"emission": "{{color}}"}},
+}
+
+# Combinators work the same in every context (EDF sums and products are the stdlib templates: EDF is a colour).
+NODEDEFS = {
+    "ND_layer_bsdf": {"expr": "mg_layer({{top}}, {{base}})", "files": _COMBINE},
+    "ND_layer_vdf": {"expr": "mg_layer({{top}}, {{base}})", "files": _COMBINE},
+    "ND_add_bsdf": {"expr": "mg_add({{in1}}, {{in2}})", "files": _COMBINE},
+    "ND_add_vdf": {"expr": "mg_add({{in1}}, {{in2}})", "files": _COMBINE},
+    "ND_multiply_bsdfC": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},
+    "ND_multiply_bsdfF": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},
+    "ND_multiply_vdfC": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},
+    "ND_multiply_vdfF": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},
+}
