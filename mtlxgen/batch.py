@@ -136,6 +136,24 @@ def run_job(job, library_dirs=()):
     return items
 
 
+def find_materials(paths):
+    """.mtlx files named by PATHS: files as given, directories searched (sorted, hidden ones skipped),
+    FILE.mtlx:ELEMENT kept as is. Raises MtlxError for a path that does not exist."""
+    files = []
+    for p in paths:
+        if os.path.isdir(p):
+            for base, dirs, names in os.walk(p):
+                dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+                files += [os.path.join(base, n) for n in sorted(names) if n.endswith(".mtlx")]
+        elif os.path.exists(p):
+            files.append(p)
+        elif ":" in p and os.path.exists(p.rsplit(":", 1)[0]):
+            files.append(p)          # FILE.mtlx:ELEMENT
+        else:
+            raise MtlxError((Loc(p, 0), "no such file or directory"))
+    return files
+
+
 def _split(jobs, library_dirs):
     """Jobs with an explicit element list, at most CHUNK elements each (so the pool can balance)."""
     out = []

@@ -153,9 +153,10 @@ def cmd_batch(args):
     from . import batch, images
     from .batch import RenderSettings
     settings = RenderSettings(size=args.size, environment=os.path.abspath(args.env) if args.env else "builtin_sky")
-    paths = [os.path.join(b, n) for d in args.paths for b, _, ns in sorted(os.walk(d)) for n in sorted(ns)
-             if n.endswith(".mtlx")] if all(os.path.isdir(p) for p in args.paths) else args.paths
-    items = batch.render_jobs([batch.Job(p, (), settings) for p in paths], workers=args.workers,
+    jobs = [batch.Job(p, (), settings) if os.path.exists(p) else batch.Job(p.rsplit(":", 1)[0], (p.rsplit(":", 1)[1],),
+                                                                         settings)
+            for p in batch.find_materials(args.paths)]
+    items = batch.render_jobs(jobs, workers=args.workers,
                               progress=False if args.no_progress else None, library_dirs=args.library)
     status = 0
     for it in items:
@@ -210,7 +211,8 @@ def build_parser():
     g = gsub.add_parser("check", help="render and compare with the goldens; exit 1 on any difference")
     g.add_argument("paths", nargs="*", metavar="PATH",
                    help=".mtlx files, directories, or FILE.mtlx:ELEMENT (default: every golden in the index)")
-    g.add_argument("--goldens", default="golden_images", metavar="DIR", help="golden directory (default: golden_images)")
+    g.add_argument("--goldens", default="golden_images", metavar="DIR",
+                   help="golden directory (default: golden_images)")
     g.add_argument("-o", "--output", default=os.path.join("out", "golden"), metavar="DIR",
                    help="where new/golden/diff images, results.json and report.html go (default: out/golden)")
     g.add_argument("--threshold", type=int, default=2, metavar="STEPS",
@@ -244,7 +246,8 @@ def build_parser():
     p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("batch", help="render every .mtlx under directories with all cores; print per-material timings")
-    p.add_argument("paths", nargs="+", metavar="PATH", help="directories (searched for .mtlx) or .mtlx files")
+    p.add_argument("paths", nargs="+", metavar="PATH",
+                   help="directories (searched for .mtlx), .mtlx files, or FILE.mtlx:ELEMENT")
     p.add_argument("-o", "--output", required=True, metavar="DIR")
     p.add_argument("--size", type=int, default=128)
     p.add_argument("--env", metavar="FILE", help="lat-long HDR/EXR environment (default: built-in sky)")

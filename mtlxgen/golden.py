@@ -236,29 +236,13 @@ class Target:
     error: list = None  # why the target could not even be listed
 
 
-def _expand(paths):
-    files = []
-    for p in paths:
-        if os.path.isdir(p):
-            for base, dirs, names in os.walk(p):
-                dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-                files += [os.path.join(base, n) for n in sorted(names) if n.endswith(".mtlx")]
-        elif os.path.exists(p):
-            files.append(p)
-        elif ":" in p and os.path.exists(p.rsplit(":", 1)[0]):
-            files.append(p)          # FILE.mtlx:ELEMENT
-        else:
-            raise MtlxError((Loc(p, 0), "no such file or directory"))
-    return files
-
-
 def targets(index, paths=None, library_dirs=()):
     """What to check or update: every golden in the index, or every renderable element in PATHS
     (files, directories searched for .mtlx, or FILE.mtlx:ELEMENT)."""
     if not paths:
         return [Target(index.source(e), e["element"], name, e) for name, e in sorted(index.goldens.items())]
     out, seen = [], {}
-    for spec in _expand(paths):
+    for spec in batch.find_materials(paths):
         path, elements = spec, None
         if not os.path.exists(spec):
             path, element = spec.rsplit(":", 1)

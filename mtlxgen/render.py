@@ -88,7 +88,9 @@ def builtin_sky(width=512, height=256):
     sky = horizon + (zenith - horizon) * np.sqrt(up)
     ground = np.array([0.22, 0.18, 0.14]) * (1.0 - 0.5 * np.clip(-d[..., 1:2], 0.0, 1.0))
     img = np.where(d[..., 1:2] >= 0.0, sky, ground)
-    sun_dir = np.array([0.45, 0.55, 0.70])
+    # in the map's own frame; u_envMatrix's default (x and z negated) puts it at world (0.45, 0.55, 0.70),
+    # above and to the right of the default camera
+    sun_dir = np.array([-0.45, 0.55, -0.70])
     sun_dir /= np.linalg.norm(sun_dir)
     cos_sun = (d * sun_dir).sum(-1, keepdims=True)
     disc = np.clip((cos_sun - np.cos(np.radians(6.0))) / (1.0 - np.cos(np.radians(6.0))), 0.0, 1.0)
@@ -148,9 +150,10 @@ class Renderer:
         self.buffers = {k: (self.ctx.buffer(v.tobytes()), "%df" % v.shape[1]) for k, v in attrs.items()}
         self.index = self.ctx.buffer(index.tobytes())
         env = builtin_sky() if environment is None else np.asarray(environment, dtype=np.float32)
-        self.env = self._float_texture(env, mipmaps=True)
+        # lat-long maps go up top row first: v = 0 is the top of the image (interface.md)
+        self.env = self._float_texture(env, mipmaps=True, top_first=True)
         self.env_mips = int(np.floor(np.log2(max(env.shape[:2])))) + 1
-        self.irradiance = self._float_texture(irradiance_map(env), mipmaps=False)
+        self.irradiance = self._float_texture(irradiance_map(env), mipmaps=False, top_first=True)
         self._image_cache = {}
 
     def __enter__(self):
@@ -164,8 +167,9 @@ class Renderer:
             self.ctx.release()
             self.ctx = None
 
-    def _float_texture(self, img, mipmaps):
-        img = np.ascontiguousarray(img[::-1], dtype="f4")       # bottom row first (OpenGL order)
+    def _float_texture(self, img, mipmaps, top_first=False):
+        """Image textures go up bottom row first (uv (0, 0) = lower-left corner); lat-long maps top first."""
+        img = np.ascontiguousarray(img if top_first else img[::-1], dtype="f4")
         t = self.ctx.texture((img.shape[1], img.shape[0]), img.shape[2], img.tobytes(), dtype="f4")
         if mipmaps:
             t.build_mipmaps()
@@ -202,6 +206,7 @@ class Renderer:
 
     def render_timed(self, vertex, fragment, manifest=None, textures=None):
         ctx = self.ctx
+        ctx.__enter__()       # make this renderer's context current: another Renderer may have been used since
         t0 = time.perf_counter()
         prog = ctx.program(vertex_shader=vertex, fragment_shader=fragment)
         t1 = time.perf_counter()

@@ -4,7 +4,6 @@ proof that the check can fail, determinism, reference parity, and the HTML repor
 `pytest --update-goldens` rewrites the goldens from the current renders instead of checking them.
 """
 import hashlib
-import json
 import os
 import re
 import shutil
@@ -339,3 +338,24 @@ def test_report_opens_in_headless_chromium(report_run, tmp_path):
     keep = os.path.join(FAILURES, "golden_report_screenshot.png")
     os.makedirs(FAILURES, exist_ok=True)
     shutil.copyfile(str(shot), keep)                  # for a human to look at (tests/_failures is ignored)
+
+
+def test_progress_bar_on_terminal_and_in_logs():
+    import io
+
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    tty, log = Tty(), io.StringIO()
+    for stream in (tty, log):
+        bar = batch.Progress(40, "render", stream=stream)
+        for _ in range(40):
+            bar.advance(1, "x.mtlx")
+        bar.close()
+    assert "\r" in tty.getvalue() and "40/40" in tty.getvalue() and tty.getvalue().endswith("\n")
+    assert "\r" not in log.getvalue() and len(log.getvalue().splitlines()) <= 11
+    quiet = io.StringIO()
+    bar = batch.Progress(3, "render", stream=quiet)          # short runs stay quiet
+    bar.advance(3)
+    assert quiet.getvalue() == ""

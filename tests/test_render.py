@@ -59,3 +59,11 @@ def test_builtin_sky_is_deterministic_hdr():
     a, b = render.builtin_sky(), render.builtin_sky()
     assert a.tobytes() == b.tobytes()
     assert a.max() > 4.0 and a.min() >= 0.0
+
+
+def test_a_renderer_still_draws_after_another_renderer_came_and_went(tmp_path, renderer):
+    shader = pipeline.generate(unlit(tmp_path, (0.1, 0.2, 0.3)))[0]
+    before = renderer.render(shader)
+    with render.Renderer(size=16) as other:
+        other.render(shader)
+    assert renderer.render(shader).tobytes() == before.tobytes()

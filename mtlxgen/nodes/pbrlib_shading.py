@@ -57,15 +57,23 @@ NODES = {
     "surface": {"handler": surface},
     "oren_nayar_diffuse_bsdf": {
         "closure": {
-            "reflection": "mg_oren_nayar_reflection(mg_L, mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}})",
-            "indirect": "mg_oren_nayar_indirect(mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}})",
+            "reflection": "mg_oren_nayar_reflection(mg_L, mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}}, "
+                          "{{=energy_compensation}})",
+            "indirect": "mg_oren_nayar_indirect(mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}}, "
+                        "{{=energy_compensation}})",
         },
         "files": ["pbrlib/bsdf/oren_nayar.glsl"]},
     "uniform_edf": {"closure": {"emission": "{{color}}"}},
+    # displacement (MaterialX Specification 1.39): a scalar moves along the normal; a vector is given
+    # in the (dPdu, dPdv, N) frame. Applied in the vertex stage (emit.py), in object space.
+    "displacement": "displacementshader({{@normal_object}} * {{displacement}}, {{scale}})",
 }
 
 # Combinators work the same in every context (EDF sums and products are the stdlib templates: EDF is a colour).
 NODEDEFS = {
+    "ND_displacement_vector3": "displacementshader({{@tangent_object}} * {{displacement}}.x + "
+                               "{{@bitangent_object}} * {{displacement}}.y + {{@normal_object}} * {{displacement}}.z, "
+                               "{{scale}})",
     "ND_layer_bsdf": {"expr": "mg_layer({{top}}, {{base}})", "files": _COMBINE},
     "ND_layer_vdf": {"expr": "mg_layer({{top}}, {{base}})", "files": _COMBINE},
     "ND_add_bsdf": {"expr": "mg_add({{in1}}, {{in2}})", "files": _COMBINE},

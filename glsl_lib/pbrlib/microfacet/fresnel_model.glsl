@@ -1,0 +1,66 @@
+// requires: pbrlib/microfacet/fresnel.glsl pbrlib/microfacet/thin_film.glsl
+// The Fresnel curve of one microfacet BSDF node, as data: which model, its parameters, and an optional
+// thin film on top (thickness in nm; 0 = none).
+#define MG_FRESNEL_DIELECTRIC 0
+#define MG_FRESNEL_CONDUCTOR 1
+#define MG_FRESNEL_SCHLICK 2
+
+struct MgFresnel
+{
+    int model;
+    vec3 ior;          // dielectric: ior.x; conductor: eta
+    vec3 extinction;   // conductor: k
+    vec3 F0;           // schlick
+    vec3 F82;
+    vec3 F90;
+    float exponent;
+    float film_thickness;
+    float film_ior;
+};
+
+MgFresnel mg_fresnel_dielectric_model(float ior, float film_thickness, float film_ior)
+{
+    return MgFresnel(MG_FRESNEL_DIELECTRIC, vec3(ior), vec3(0.0), vec3(mg_ior_to_f0(ior)), vec3(1.0), vec3(1.0),
+                     5.0, film_thickness, film_ior);
+}
+
+MgFresnel mg_fresnel_conductor_model(vec3 eta, vec3 k, float film_thickness, float film_ior)
+{
+    return MgFresnel(MG_FRESNEL_CONDUCTOR, eta, k, mg_fresnel_conductor(1.0, eta, k), vec3(1.0), vec3(1.0),
+                     5.0, film_thickness, film_ior);
+}
+
+MgFresnel mg_fresnel_schlick_model(vec3 F0, vec3 F82, vec3 F90, float exponent, float film_thickness, float film_ior)
+{
+    return MgFresnel(MG_FRESNEL_SCHLICK, vec3(1.5), vec3(0.0), F0, F82, F90, exponent, film_thickness, film_ior);
+}
+
+// Reflectance of the curve alone (no film) at cosTheta.
+vec3 mg_fresnel_base(MgFresnel f, float cosTheta)
+{
+    if (f.model == MG_FRESNEL_DIELECTRIC)
+        return vec3(mg_fresnel_dielectric(cosTheta, f.ior.x));
+    if (f.model == MG_FRESNEL_CONDUCTOR)
+        return mg_fresnel_conductor(cosTheta, f.ior, f.extinction);
+    return mg_fresnel_schlick_f82(cosTheta, f.F0, f.F82, f.F90, f.exponent);
+}
+
+// Reflectance at cosTheta, through the thin film where there is one.
+vec3 mg_fresnel_eval(MgFresnel f, float cosTheta)
+{
+    if (f.film_thickness <= 0.0)
+        return mg_fresnel_base(f, cosTheta);
+    float c2 = mg_thin_film_cos2(cosTheta, f.film_ior);
+    vec3 R23;
+    float phi23 = MG_PI;
+    if (f.model == MG_FRESNEL_DIELECTRIC)
+    {
+        R23 = vec3(mg_fresnel_dielectric(c2, f.ior.x / f.film_ior));
+        phi23 = f.ior.x > f.film_ior ? MG_PI : 0.0;
+    }
+    else if (f.model == MG_FRESNEL_CONDUCTOR)
+        R23 = mg_fresnel_conductor(c2, f.ior / f.film_ior, f.extinction / f.film_ior);
+    else
+        R23 = mg_fresnel_schlick(c2, f.F0, f.F90, f.exponent);
+    return mg_thin_film_reflectance(cosTheta, f.film_ior, f.film_thickness, R23, phi23);
+}

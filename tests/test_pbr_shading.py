@@ -1,0 +1,76 @@
+"""Closure shading: surface lighting in contexts, Oren-Nayar against MaterialX, displacement in the vertex stage."""
+import numpy as np
+import pytest
+
+from mtlxgen import pipeline
+from util import assert_parity_with_materialx, write_doc
+
+ON = """
+  <oren_nayar_diffuse_bsdf name="diff" type="BSDF">
+    <input name="color" type="color3" value="0.8, 0.5, 0.3" />
+    <input name="roughness" type="float" value="%s" />
+  </oren_nayar_diffuse_bsdf>
+  <surface name="surf" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="diff" /></surface>
+  <surfacematerial name="mat" type="material"><input name="surfaceshader" type="surfaceshader" nodename="surf" /></surfacematerial>"""
+
+
+@pytest.mark.parametrize("roughness", [0.0, 0.4, 0.9])
+def test_oren_nayar_surface_matches_materialx(tmp_path, renderer, reference, roughness):
+    assert_parity_with_materialx(renderer, reference, write_doc(tmp_path, ON % roughness), "mat")
+
+
+def test_closures_are_evaluated_once_per_context(tmp_path):
+    s = pipeline.generate(write_doc(tmp_path, ON % 0.5))[0]
+    main = s.fragment[s.fragment.index("void main()"):]
+    assert main.count("mg_oren_nayar_reflection(") == 1      # in the light loop
+    assert main.count("mg_oren_nayar_indirect(") == 1        # in the environment block
+    assert main.index("for (int mg_i = 0;") < main.index("mg_oren_nayar_reflection(") < main.index("mg_oren_nayar_indirect(")
+
+
+def test_mixed_closures_weigh_their_responses(tmp_path):
+    from mtlxgen.render import Renderer
+    body = """
+  <oren_nayar_diffuse_bsdf name="top" type="BSDF"><input name="color" type="color3" value="1, 0, 0" />
+    <input name="weight" type="float" value="0.5" /></oren_nayar_diffuse_bsdf>
+  <oren_nayar_diffuse_bsdf name="base" type="BSDF"><input name="color" type="color3" value="0, 1, 0" /></oren_nayar_diffuse_bsdf>
+  <mix name="m" type="BSDF"><input name="fg" type="BSDF" nodename="top" /><input name="bg" type="BSDF" nodename="base" />
+    <input name="mix" type="float" value="0.25" /></mix>
+  <surface name="surf" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="m" /></surface>"""
+    white = np.ones((32, 64, 3), dtype=np.float32)        # a white furnace: irradiance 1 everywhere
+    with Renderer(size=64, environment=white) as r:
+        img = r.render(pipeline.generate(write_doc(tmp_path, body))[0])
+    covered = img[..., 3] > 0
+    # Lambert (roughness 0) reflects its albedo under unit irradiance: 0.25 * 0.5 red, 0.75 green
+    assert np.allclose(img[covered][:, :3], [0.125, 0.75, 0.0], atol=2e-3)
+
+
+DISPLACED = ON % 0.0 + """
+  <position name="p" type="vector3" />
+  <displacement name="d" type="displacementshader">
+    <input name="displacement" type="float" value="%s" />
+  </displacement>
+  <surfacematerial name="dmat" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="surf" />
+    <input name="displacementshader" type="displacementshader" nodename="d" />
+  </surfacematerial>"""
+
+
+def test_displacement_moves_vertices_along_the_normal(tmp_path, renderer):
+    path = write_doc(tmp_path, DISPLACED % 0.2)
+    plain, displaced = pipeline.generate(path, ["mat"])[0], pipeline.generate(path, ["dmat"])[0]
+    assert "mg_displacement" in displaced.vertex and "mg_displacement" not in plain.vertex
+    cover = lambda s: float((renderer.render(s)[..., 3] > 0).mean())
+    # a sphere of radius 1.2 covers (1.2)^2 as much of the frame, give or take perspective
+    ratio = cover(displaced) / cover(plain)
+    assert 1.3 < ratio < 1.7
+
+
+def test_vector_displacement_uses_the_tangent_frame(tmp_path):
+    body = (ON % 0.0) + """
+  <displacement name="d" type="displacementshader"><input name="displacement" type="vector3" value="0, 0, 0.1" /></displacement>
+  <surfacematerial name="dmat" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="surf" />
+    <input name="displacementshader" type="displacementshader" nodename="d" />
+  </surfacematerial>"""
+    s = pipeline.generate(write_doc(tmp_path, body), ["dmat"])[0]
+    assert "i_tangent" in s.vertex and "cross(i_normal, i_tangent)" in s.vertex
