@@ -19,7 +19,7 @@ def _report(e):
 def cmd_generate(args):
     from . import pipeline
     shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
-                                       partial=True)
+                                       partial=True, usd_seed_rules=args.usd_seed_rules)
     for s in shaders:
         paths = s.write(args.output)
         if args.verbose:
@@ -31,9 +31,12 @@ def cmd_generate(args):
 
 def cmd_render(args):
     from . import pipeline, render
-    shaders = pipeline.generate(args.file, [args.element] if args.element else None, args.library)
+    shaders = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
+                                usd_seed_rules=args.usd_seed_rules)
     env = render.load_environment(args.env) if args.env else None
-    with render.Renderer(size=args.size, environment=env) as r:
+    from .lights import load_light_rig
+    lights = load_light_rig(args.lights) if args.lights else ()
+    with render.Renderer(size=args.size, environment=env, lights=lights) as r:
         for s in shaders:
             img = r.render(s)
             os.makedirs(args.output, exist_ok=True)
@@ -50,10 +53,12 @@ def cmd_info(args):
     doc = pipeline.load_document(args.file, args.library)
     print("%s (MaterialX %s)" % (args.file, doc.version))
     names = graph.renderable_elements(doc)
+    from .nodes.usd import uses_usd_nodes
+    usd_rules = uses_usd_nodes(doc) if args.usd_seed_rules is None else args.usd_seed_rules
     status = 0
     for name in names:
         try:
-            g = graph.build_graph(doc, lib, name)
+            g = graph.build_graph(doc, lib, name, usd_seed_rules=usd_rules)
             print("  %s [%s] %d nodes, %d uniforms" % (name, g.kind, len(g.nodes), len(g.uniforms)))
             for n in g.nodes:
                 print("    %-28s %s" % (n.id, n.nodedef.name))
@@ -179,6 +184,9 @@ def build_parser():
         p.add_argument("file", help="a .mtlx document")
         p.add_argument("--library", action="append", default=[], metavar="DIR",
                        help="extra directory of .mtlx definitions (repeatable)")
+        p.add_argument("--usd-seed-rules", action=argparse.BooleanOptionalAction, default=None,
+                       help="USD preview nodes follow the UsdPreviewSurface seed's rules rather than MaterialX's "
+                            "nodegraphs (default: on for documents using USD's preview nodes)")
 
     p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
     common(p)
@@ -193,6 +201,8 @@ def build_parser():
     p.add_argument("--element", metavar="NAME")
     p.add_argument("--size", type=int, default=256)
     p.add_argument("--env", metavar="FILE", help="lat-long HDR/EXR environment (default: built-in sky)")
+    p.add_argument("--lights", metavar="RIG.mtlx",
+                   help="bind a light-rig document's point/directional/spot lights to u_lightData")
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("info", help="list elements, their nodes and unresolved problems")

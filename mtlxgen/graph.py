@@ -115,8 +115,9 @@ class _Scope:
 
 
 class GraphBuilder:
-    def __init__(self, doc, library):
+    def __init__(self, doc, library, usd_seed_rules=False):
         self.doc = doc
+        self.usd_seed_rules = usd_seed_rules     # USD nodes resolve to the seed's rules (nodes/usd.py)
         self.lib = library.overlay(doc)
         self.problems = Problems()
         self.nodes = {}               # id -> GNode
@@ -140,6 +141,11 @@ class GraphBuilder:
     # ---------- nodedef resolution ----------
     def nodedef_for(self, node):
         lib = self.lib
+        if self.usd_seed_rules:
+            from .nodes.usd import seed_nodedef
+            nd = seed_nodedef(node, lib)
+            if nd is not None:
+                return nd
         if node.nodedef:
             nd = lib.nodedefs.get(node.nodedef)
             if nd is None:
@@ -162,6 +168,11 @@ class GraphBuilder:
                 matches.append(nd)
         if matches:
             return matches[0]
+        from .nodes.renamed_inputs import renamed_input_message
+        renamed = [(i.loc, renamed_input_message(node.category, i.name)) for i in node.inputs.values()
+                   if not any(i.name in nd.inputs for nd in candidates)]
+        if any(m for _, m in renamed):
+            raise MtlxError([(loc, m) for loc, m in renamed if m])
         sig = ", ".join("%s: %s" % (i.name, i.type) for i in node.inputs.values())
         types = sorted({nd.type for nd in candidates})
         if not any(self._type_matches(node, nd) for nd in candidates):
@@ -203,9 +214,13 @@ class GraphBuilder:
                                  % (port.name, port.nodename, " in nodegraph '%s'" % scope.graph.name if scope.graph else "")))
             outs = self.instantiate(node, scope)
             if port.output:
-                if port.output not in outs:
+                name = port.output
+                if name not in outs and name == "result" and "out" in outs and self.usd_seed_rules:
+                    from .nodes.usd import accepts_result_output
+                    name = "out" if accepts_result_output(node.category) else name
+                if name not in outs:
                     raise MtlxError((port.loc, "node '%s' has no output '%s'" % (node.name, port.output)))
-                return outs[port.output]
+                return outs[name]
             if len(outs) == 1:
                 return next(iter(outs.values()))
             if "out" in outs:
@@ -310,7 +325,9 @@ class GraphBuilder:
         nd = self.nodedef_for(node)
         for name, port in node.inputs.items():
             if name not in nd.inputs:
-                raise MtlxError((port.loc, "node '%s' (%s) has no input '%s'" % (node.name, nd.name, name)))
+                from .nodes.renamed_inputs import renamed_input_message
+                raise MtlxError((port.loc, renamed_input_message(node.category, name) or
+                                 "node '%s' (%s) has no input '%s'" % (node.name, nd.name, name)))
         stem = scope.prefix + node.name if scope.prefix and not scope.public else node.name
         inputs, static = {}, {}
         for name, decl in nd.inputs.items():
@@ -442,8 +459,8 @@ class GraphBuilder:
         return "shader", src
 
 
-def build_graph(doc, library, element):
-    return GraphBuilder(doc, library).build(element)
+def build_graph(doc, library, element, usd_seed_rules=False):
+    return GraphBuilder(doc, library, usd_seed_rules).build(element)
 
 
 SHADER_TYPES = ("surfaceshader", "volumeshader")

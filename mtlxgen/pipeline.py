@@ -14,8 +14,11 @@ def load_document(path, library_dirs=()):
     return upgrade(doc)
 
 
-def generate(path, elements=None, library_dirs=(), partial=False):
+def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
+
+    usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
+    rather than MaterialX's nodegraphs; None (the default) turns them on for documents from USD.
 
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
@@ -23,12 +26,15 @@ def generate(path, elements=None, library_dirs=(), partial=False):
     lib = library.load_library(library_dirs)
     doc = load_document(path, library_dirs)
     names = elements or graph.renderable_elements(doc)
+    if usd_seed_rules is None:
+        from .nodes.usd import uses_usd_nodes
+        usd_seed_rules = uses_usd_nodes(doc)
     if not names:
         raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
     problems, shaders = Problems(), []
     for name in names:
         try:
-            g = graph.build_graph(doc, lib, name)
+            g = graph.build_graph(doc, lib, name, usd_seed_rules=usd_seed_rules)
             shaders.append(emit.emit(g))
         except MtlxError as e:
             problems.extend(e)

@@ -138,12 +138,13 @@ def load_environment(path):
 class Renderer:
     """One GL context, one sphere, one environment; renders Shader objects (or vertex/fragment pairs)."""
 
-    def __init__(self, size=SIZE, environment=None, env_samples=ENV_SAMPLES):
+    def __init__(self, size=SIZE, environment=None, env_samples=ENV_SAMPLES, lights=()):
         import moderngl
         self.mgl = moderngl
         self.ctx = create_context()
         self.size = size
         self.env_samples = env_samples
+        self.lights = list(lights)      # LightData records (lights.load_light_rig) bound to u_lightData[]
         self.fbo = self.ctx.framebuffer(color_attachments=[self.ctx.texture((size, size), 4, dtype="f4")],
                                         depth_attachment=self.ctx.depth_renderbuffer((size, size)))
         attrs, index = sphere()
@@ -181,7 +182,11 @@ class Renderer:
     def image_texture(self, path):
         if path not in self._image_cache:
             try:
-                self._image_cache[path] = self._float_texture(read_image(path), mipmaps=True)
+                if path.lower().endswith(".ies"):     # measured_edf: the profile's 2-D texture (ies.py)
+                    from .ies import load_texture
+                    self._image_cache[path] = self._float_texture(load_texture(path), mipmaps=False, top_first=True)
+                else:
+                    self._image_cache[path] = self._float_texture(read_image(path), mipmaps=True)
             except Exception:
                 self._image_cache[path] = None
         return self._image_cache[path]
@@ -243,6 +248,9 @@ class Renderer:
             for name, value in scalars.items():
                 if name in prog:
                     prog[name].value = value
+            if self.lights:
+                from .lights import bind_lights
+                bind_lights(prog, self.lights)
             self.fbo.use()
             ctx.enable(self.mgl.DEPTH_TEST)
             ctx.clear(0.0, 0.0, 0.0, 0.0)

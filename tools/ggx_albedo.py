@@ -75,11 +75,12 @@ def table():
 
 
 def design(mu, alpha):
-    """Monomials of the fit: x = 1 - sqrt(mu), y = sqrt(alpha), total degree <= DEG."""
+    """Monomials of the fit of the difference from the mirror limit (alpha = 0: A = 1 - (1 - mu)^5,
+    B = (1 - mu)^5): x = 1 - sqrt(mu), y = sqrt(alpha), x^i y^j with j >= 1, total degree <= DEG."""
     x, y = 1.0 - np.sqrt(mu), np.sqrt(alpha)
     cols, names = [], []
     for i in range(DEG + 1):
-        for j in range(DEG + 1 - i):
+        for j in range(1, DEG + 1 - i):
             cols.append(x ** i * y ** j)
             names.append((i, j))
     return np.stack(cols, -1), names
@@ -89,14 +90,26 @@ def fit(tab):
     mus, alphas = grid()
     mm, aa = np.meshgrid(mus, alphas)
     X, names = design(mm.ravel(), aa.ravel())
-    coef = [np.linalg.lstsq(X, tab[..., k].ravel(), rcond=None)[0] for k in range(2)]
-    err = max(np.abs(X @ coef[k] - tab[..., k].ravel()).max() for k in range(2))
+    s = (1.0 - mm.ravel()) ** 5
+    limit = [1.0 - s, s]
+    coef = [np.linalg.lstsq(X, tab[..., k].ravel() - limit[k], rcond=None)[0] for k in range(2)]
+    err = max(np.abs(X @ coef[k] + limit[k] - tab[..., k].ravel()).max() for k in range(2))
     return coef, names, err
 
 
 def glsl_poly(coef, names):
-    terms = ["%.6g * p[%d][%d]" % (c, i, j) for c, (i, j) in zip(coef, names)]
-    return " + ".join(terms).replace("+ -", "- ")
+    """Horner form in x of polynomials in y: sum_i x^i (sum_j c_ij y^j)."""
+    c = dict(zip(names, coef))
+    def in_y(i):
+        js = sorted(j for (ii, j) in names if ii == i)
+        e = "%.7g" % c[(i, js[-1])]
+        for j in reversed(js[:-1]):
+            e = "(%s) * y + %.7g" % (e, c[(i, j)])
+        return "(%s) * y" % e
+    e = in_y(DEG - 1)
+    for i in reversed(range(DEG - 1)):
+        e = "(%s) * x\n        + %s" % (e, in_y(i))
+    return e.replace("+ -", "- ")
 
 
 def write(tab, coef, names, err):
@@ -121,17 +134,15 @@ def write(tab, coef, names, err):
                 "    return mix(lo, hi, t.y);\n}\n" % N)
     with open(os.path.join(OUT, "albedo_fit.glsl"), "w") as f:
         f.write("// Directional albedo of GGX reflection with height-correlated Smith G2 (Heitz 2014), split over\n"
-                "// Schlick weights: least-squares polynomial in x = 1 - sqrt(mu), y = sqrt(alpha) (total degree 6) of the\n// table "
+                "// Schlick weights: the mirror limit plus a least-squares polynomial in x = 1 - sqrt(mu), y = sqrt(alpha)\n"
+                "// (total degree 6, every term with y) fitted to the table "
                 "of tools/ggx_albedo.py; max error %.4f. Generated.\n" % err)
         f.write("vec2 mg_ggx_albedo_fit(float mu, float alpha)\n{\n"
                 "    float x = 1.0 - sqrt(clamp(mu, 0.0, 1.0)), y = sqrt(clamp(alpha, 0.0, 1.0));\n"
-                "    float p[7][7];\n"
-                "    float xi = 1.0;\n"
-                "    for (int i = 0; i < 7; ++i)\n    {\n        float yj = 1.0;\n"
-                "        for (int j = 0; j < 7; ++j)\n        {\n            p[i][j] = xi * yj;\n            yj *= y;\n        }\n"
-                "        xi *= x;\n    }\n")
-        f.write("    float A = %s;\n" % glsl_poly(coef[0], names))
-        f.write("    float B = %s;\n" % glsl_poly(coef[1], names))
+                )
+        f.write("    float s = pow(1.0 - clamp(mu, 0.0, 1.0), 5.0);\n")
+        f.write("    float A = 1.0 - s + %s;\n" % glsl_poly(coef[0], names))
+        f.write("    float B = s + %s;\n" % glsl_poly(coef[1], names))
         f.write("    return clamp(vec2(A, B), 0.0, 1.0);\n}\n")
 
 

@@ -1,5 +1,7 @@
+// requires: lighting/light_shaders.glsl
 // Direct lights bound by the application as u_lightData[] (the lights library's point, directional and
-// spot lights). type: 1 point, 2 directional, 3 spot (the order of lights_defs.mtlx); 0 = unused.
+// spot lights; `mtlxgen render --lights RIG.mtlx` binds a light-rig document). type: 1 point,
+// 2 directional, 3 spot (the order of lights_defs.mtlx); 0 = unused. Spot angles are cosines.
 #define MG_MAX_LIGHTS 8
 
 struct LightData
@@ -20,20 +22,16 @@ uniform int u_numActiveLightSources = 0;
 // Direction towards the light (L) and the radiance-scaled irradiance it delivers at P.
 void mg_sample_light(LightData light, vec3 P, out vec3 L, out vec3 intensity)
 {
+    lightshader l;
     if (light.type == 2)
-    {
-        L = -normalize(light.direction);
-        intensity = light.color * light.intensity;
-        return;
-    }
-    vec3 to_light = light.position - P;
-    float dist = length(to_light);
-    L = to_light / max(dist, 1.0e-6);
-    // inverse-power falloff: decay_rate 0 none, 1 linear, 2 physical inverse square
-    intensity = light.color * (light.intensity / pow(max(dist, 1.0e-6), light.decay_rate));
-    if (light.type == 3)
-    {
-        float cos_angle = dot(-L, normalize(light.direction));
-        intensity *= smoothstep(cos(light.outer_angle), cos(light.inner_angle), cos_angle);
-    }
+        l = mg_directional_light(light.direction, light.color, light.intensity);
+    else if (light.type == 3)
+        l = mg_spot_light(P, light.position, light.direction, light.color, light.intensity, light.decay_rate,
+                          light.inner_angle, light.outer_angle);
+    else if (light.type == 1)
+        l = mg_point_light(P, light.position, light.color, light.intensity, light.decay_rate);
+    else
+        l = lightshader(vec3(0.0), vec3(0.0, 0.0, -1.0));
+    L = -l.direction;
+    intensity = l.intensity;
 }

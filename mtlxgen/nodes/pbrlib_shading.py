@@ -75,7 +75,6 @@ NODEDEFS = {
                                "{{@bitangent_object}} * {{displacement}}.y + {{@normal_object}} * {{displacement}}.z, "
                                "{{scale}})",
     "ND_layer_bsdf": {"expr": "mg_layer({{top}}, {{base}})", "files": _COMBINE},
-    "ND_layer_vdf": {"expr": "mg_layer({{top}}, {{base}})", "files": _COMBINE},
     "ND_add_bsdf": {"expr": "mg_add({{in1}}, {{in2}})", "files": _COMBINE},
     "ND_add_vdf": {"expr": "mg_add({{in1}}, {{in2}})", "files": _COMBINE},
     "ND_multiply_bsdfC": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},

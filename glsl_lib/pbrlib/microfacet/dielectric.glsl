@@ -1,0 +1,49 @@
+// requires: constants.glsl closures.glsl pbrlib/microfacet/scatter_mode.glsl pbrlib/microfacet/microfacet_reflection.glsl lighting/environment_specular.glsl lighting/environment_refraction.glsl
+// dielectric_bsdf (MaterialX Specification 1.39, pbrlib): GGX reflection with the dielectric Fresnel
+// curve, tinted; transmission by refraction; what it does not reflect passes below (albedo scaling).
+
+vec3 mg_dielectric_reflected_albedo(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr)
+{
+    return mg_ggx_albedo(clamp(dot(frame[2], V), 1.0e-4, 1.0), alpha, fr);
+}
+
+BSDF mg_dielectric_reflection(vec3 L, vec3 V, float weight, vec3 tint, float ior, vec2 roughness, bool retro,
+                              float film_thickness, float film_ior, vec3 N, vec3 T, int mode)
+{
+    if (mode == mg_scatter_T)
+        return BSDF(vec3(0.0), vec3(1.0));
+    mat3 frame = mg_tangent_frame(N, T);
+    vec2 alpha = mg_ggx_alpha(roughness);
+    MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
+    float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
+    vec3 f = mg_microfacet_reflection(L, V, frame, alpha, fr, retro) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
+    vec3 E = mg_ggx_albedo(NdotV, alpha, fr);
+    return BSDF(f * tint * weight, 1.0 - weight * E);
+}
+
+BSDF mg_dielectric_indirect(vec3 V, float weight, vec3 tint, float ior, vec2 roughness, bool retro,
+                            float film_thickness, float film_ior, vec3 N, vec3 T, int mode)
+{
+    if (mode == mg_scatter_T)
+        return BSDF(vec3(0.0), vec3(1.0));
+    mat3 frame = mg_tangent_frame(N, T);
+    vec2 alpha = mg_ggx_alpha(roughness);
+    MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
+    float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
+    vec3 Li = mg_env_specular(V, frame, alpha, fr, retro) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
+    vec3 E = mg_ggx_albedo(NdotV, alpha, fr);
+    return BSDF(Li * tint * weight, 1.0 - weight * E);
+}
+
+BSDF mg_dielectric_transmission(vec3 V, float weight, vec3 tint, float ior, vec2 roughness,
+                                float film_thickness, float film_ior, vec3 N, vec3 T, int mode)
+{
+    vec2 alpha = mg_ggx_alpha(roughness);
+    MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
+    float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
+    vec3 E = mg_ggx_albedo(NdotV, alpha, fr);
+    if (mode == mg_scatter_R)
+        return BSDF(vec3(0.0), 1.0 - weight * E);
+    vec3 through = 1.0 - E;
+    return BSDF(mg_env_refraction(V, N, T, ior, alpha) * through * tint * weight, vec3(1.0 - weight));
+}

@@ -1,0 +1,143 @@
+"""UsdPreviewSurface under the seed's rules (UsdPreviewSurface Specification 2.5), where MaterialX's
+usd_preview_surface.mtlx departs from it.
+
+The rules are switched by the pipeline option `usd_seed_rules` (CLI `--usd-seed-rules` /
+`--no-usd-seed-rules`). Left unset, they are on for documents that come from USD, which we detect as
+documents using any of USD's preview nodes (UsdPreviewSurface, UsdUVTexture, UsdPrimvarReader,
+UsdTransform2d); those are the only nodes the rules touch, so other documents never change.
+
+With the rules on, graph building resolves these categories to our own nodedefs in
+glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES), and accepts the seed's
+`result` output name for the `out` of USD nodes (UsdPrimvarReader, UsdTransform2d):
+- UsdUVTexture: `sourceColorSpace` raw / sRGB / auto (auto: a linear claim in the file's metadata
+  means raw; otherwise sRGB when the file is 8-bit with 3 or 4 channels, else raw; OpenImageIO calls
+  every PNG sRGB whether or not it says so, so only a linear claim counts as metadata); wrapS / wrapT
+  black, clamp, repeat (or periodic), mirror and useMetadata (the file's `wrapS` / `wrapT` string
+  metadata, else black); the 1- and 2-channel rules (1: rgb = r, a = 1; 2: rgb = r, a = g; 3: a = 1);
+  output = texel * scale + bias; `fallback` when the file cannot be read at generation time.
+  Wrapping is done in GLSL (glsl_lib/usd/usd_uvtexture.glsl), so it holds whatever the sampler state;
+  the manifest's texture entry also carries the MaterialX address modes, channel count and colour space.
+- UsdPreviewSurface: a nodegraph of ours (usd_seed.mtlx): metallic F0 = F90 = albedo (interpolated
+  with the dielectric F0 from ior and F90 = 1), no conductor; opacity is alpha, not refraction;
+  opacityThreshold > 0 cuts out (alpha 0 below the threshold, 1 at or above it).
+"""
+import os
+
+USD_CATEGORIES = ("UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader", "UsdTransform2d")
+
+# document category -> the category of our seed-rule nodedefs (glsl_lib/usd/usd_seed.mtlx)
+SEED_CATEGORIES = {
+    "UsdPreviewSurface": "usd_seed_UsdPreviewSurface",
+    "UsdUVTexture": "usd_seed_UsdUVTexture",
+}
+
+WRAP_MODES = {"black": 0, "clamp": 1, "repeat": 2, "periodic": 2, "mirror": 3}
+_MATERIALX_ADDRESS = {"black": "constant", "clamp": "clamp", "repeat": "periodic", "periodic": "periodic",
+                      "mirror": "mirror"}
+_LINEAR_NAMES = ("linear", "lin_", "scene_linear", "raw", "acescg", "aces2065")
+
+
+def uses_usd_nodes(doc):
+    """True for a document that comes from USD: it uses one of USD's preview nodes anywhere."""
+    graphs = [doc.nodes] + [g.nodes for g in doc.nodegraphs.values()]
+    return any(n.category in USD_CATEGORIES for nodes in graphs for n in nodes.values())
+
+
+def seed_nodedef(node, library):
+    """Our seed-rule nodedef for a document node, or None where the rules do not replace it."""
+    category = SEED_CATEGORIES.get(node.category)
+    if category is None:
+        return None
+    candidates = library.by_category.get(category) or []
+    if len(candidates) > 1 and node.type not in ("multioutput", ""):
+        candidates = [nd for nd in candidates if nd.type == node.type] or candidates
+    return candidates[0] if candidates else None
+
+
+def accepts_result_output(category):
+    """The seed names the single output of its primvar and transform nodes `result`."""
+    return category.startswith("Usd")
+
+
+# ---------------------------------------------------------------- UsdUVTexture
+
+def file_info(path):
+    """{channels, bits8, linear_claim, wrapS, wrapT} of an image file from its header, or None."""
+    if not path or not os.path.isfile(path):
+        return None
+    try:
+        import OpenImageIO as oiio
+        inp = oiio.ImageInput.open(path)
+        if inp is None:
+            return None
+        try:
+            spec = inp.spec()
+            attrs = {a.name: a.value for a in spec.extra_attribs}
+            fmt = str(spec.format)
+        finally:
+            inp.close()
+    except Exception:
+        return None
+    cs = str(attrs.get("oiio:ColorSpace", "")).lower()
+    gamma = attrs.get("oiio:Gamma")
+    linear = any(cs.startswith(p) for p in _LINEAR_NAMES) or (
+        isinstance(gamma, (int, float)) and abs(float(gamma) - 1.0) < 1e-3)
+    return {"channels": int(spec.nchannels), "bits8": fmt in ("uint8", "int8"), "linear_claim": linear,
+            "wrapS": str(attrs.get("wrapS", "")), "wrapT": str(attrs.get("wrapT", ""))}
+
+
+def _wrap(node, em, name, info):
+    value = node.static.get(name) or "useMetadata"
+    if value == "useMetadata":
+        value = (info or {}).get(name) or "black"
+        if value not in WRAP_MODES:
+            value = "black"
+    if value not in WRAP_MODES:
+        em.fail(node, "%s '%s' is not one of black, clamp, repeat, mirror, useMetadata" % (name, value))
+    return value
+
+
+def source_is_srgb(source, info):
+    """The seed's sourceColorSpace rule: does the file read through the sRGB transfer curve?"""
+    if source == "sRGB":
+        return True
+    if source == "raw" or info is None:
+        return False
+    if info["linear_claim"]:
+        return False
+    return info["bits8"] and info["channels"] in (3, 4)
+
+
+def uv_texture(node, em):
+    from ..resolve import resolve_file
+    from .handlers import _default_value, _texture_file
+    sampler, value, _ = _texture_file(node, em)
+    info = file_info(resolve_file(value, em.graph.doc_path))
+    wrap_s, wrap_t = _wrap(node, em, "wrapS", info), _wrap(node, em, "wrapT", info)
+    source = node.static.get("sourceColorSpace") or "auto"
+    if source not in ("raw", "sRGB", "auto"):
+        em.fail(node, "sourceColorSpace '%s' is not one of raw, sRGB, auto" % source)
+    srgb = source_is_srgb(source, info)
+    channels = info["channels"] if info else 4
+    em.textures[sampler] = {
+        "uaddressmode": _MATERIALX_ADDRESS[wrap_s], "vaddressmode": _MATERIALX_ADDRESS[wrap_t],
+        "filtertype": "linear", "default": _default_value(node, "fallback"),
+        "colorspace": "srgb_texture" if srgb else "raw", "channels": channels,
+        "usd_wrap": [wrap_s, wrap_t], "usd_source_colorspace": source,
+    }
+    texel = em.fresh(node.id + "_texel")
+    if info is None:            # the file cannot be read: the seed's fallback
+        expr = em.input_expr(node, "fallback")
+    else:
+        em.require("usd/usd_uvtexture.glsl")
+        expr = "mg_usd_uvtexture(%s, %s, %d, %d, %d, %s, %s, %s)" % (
+            sampler, em.input_expr(node, "st"), WRAP_MODES[wrap_s], WRAP_MODES[wrap_t], channels,
+            "true" if srgb else "false", em.input_expr(node, "scale"), em.input_expr(node, "bias"))
+    em.line("vec4 %s = %s;" % (texel, expr))
+    return {"r": texel + ".r", "g": texel + ".g", "b": texel + ".b", "a": texel + ".a", "rgb": texel + ".rgb",
+            "rgba": texel}
+
+
+NODES = {
+    "usd_seed_UsdUVTexture": {"handler": uv_texture},
+}
