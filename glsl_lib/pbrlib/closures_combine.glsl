@@ -1,43 +1,16 @@
-// Combining closures (MaterialX Specification 1.39, pbrlib "layer", "add", "multiply"): a BSDF carries
-// its response and the share of light it lets through to what lies below (albedo scaling).
+// Combining closures (MaterialX Specification 1.39, pbrlib "layer", "add", "multiply"): a BSDF (or VDF)
+// carries its response and the share of light it lets through to what lies below (albedo scaling).
+// One definition serves both closure structs.
 
-BSDF mg_layer(BSDF top, BSDF base)
-{
-    return BSDF(top.response + top.throughput * base.response, top.throughput * base.throughput);
-}
+#define MG_CLOSURE_COMBINATORS(T)                                                       \
+    BSDF mg_layer(T top, BSDF base)                                                     \
+    {                                                                                   \
+        return BSDF(top.response + top.throughput * base.response,                      \
+                    top.throughput * base.throughput);                                  \
+    }                                                                                   \
+    T mg_add(T a, T b) { return T(a.response + b.response, a.throughput * b.throughput); } \
+    T mg_scale(T c, vec3 w) { return T(c.response * w, c.throughput); }                 \
+    T mg_scale(T c, float w) { return T(c.response * w, c.throughput); }
 
-BSDF mg_add(BSDF a, BSDF b)
-{
-    return BSDF(a.response + b.response, a.throughput * b.throughput);
-}
-
-BSDF mg_scale(BSDF b, vec3 w)
-{
-    return BSDF(b.response * w, b.throughput);
-}
-
-BSDF mg_scale(BSDF b, float w)
-{
-    return BSDF(b.response * w, b.throughput);
-}
-
-// the same for volumes: a VDF's response and the share of light that passes
-BSDF mg_layer(VDF top, BSDF base)
-{
-    return BSDF(top.response + top.throughput * base.response, top.throughput * base.throughput);
-}
-
-VDF mg_add(VDF a, VDF b)
-{
-    return VDF(a.response + b.response, a.throughput * b.throughput);
-}
-
-VDF mg_scale(VDF b, vec3 w)
-{
-    return VDF(b.response * w, b.throughput);
-}
-
-VDF mg_scale(VDF b, float w)
-{
-    return VDF(b.response * w, b.throughput);
-}
+MG_CLOSURE_COMBINATORS(BSDF)
+MG_CLOSURE_COMBINATORS(VDF)
