@@ -1,6 +1,6 @@
 // requires: constants.glsl lighting/environment.glsl lighting/environment_specular.glsl
 #ifndef MG_REFRACTION_ALPHA_SCALE
-#define MG_REFRACTION_ALPHA_SCALE 0.7
+#define MG_REFRACTION_ALPHA_SCALE 0.5
 #endif
 #ifndef MG_REFRACTION_LOD
 #define MG_REFRACTION_LOD(a) (sqrt(sqrt(a.x * a.y)) * float(u_envRadianceMips - 1))

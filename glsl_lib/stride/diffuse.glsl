@@ -14,8 +14,10 @@ vec3 mg_stride_cel_black_white(float x)
     return vec3(x > 0.2 ? 1.0 : 0.0);
 }
 
-// Cel-shading ramp texture: a 1-D ramp read at (sat(NL), 0.5) (Stride docs, cel shading "Ramp").
+// Cel-shading ramp texture: a 1-D ramp read at (sat(NL), 0.5) (Stride docs, cel shading "Ramp"); u is
+// kept within the end texels' centres, which reads as clamp-to-edge whatever the sampler's wrap mode.
 vec3 mg_stride_cel_texture(sampler2D ramp, float x)
 {
-    return texture(ramp, vec2(clamp(x, 0.0, 1.0), 0.5)).rgb;
+    float half_texel = 0.5 / float(textureSize(ramp, 0).x);
+    return texture(ramp, vec2(clamp(x, half_texel, 1.0 - half_texel), 0.5)).rgb;
 }
