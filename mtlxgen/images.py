@@ -21,7 +21,10 @@ def to_srgb8(img):
 def read_image(path):
     """Image file -> float32 array (rows top first, channels last). Raises MtlxError if unreadable."""
     import OpenImageIO as oiio
-    buf = oiio.ImageBuf(path)
+    # colour as stored: straight (unassociated) alpha, as texture files mean it and as USD's rules read it
+    config = oiio.ImageSpec()
+    config.attribute("oiio:UnassociatedAlpha", 1)
+    buf = oiio.ImageBuf(path, 0, 0, config)
     if buf.has_error:
         raise MtlxError((Loc(path, 0), "cannot read image: %s" % buf.geterror().strip()))
     px = buf.get_pixels(oiio.FLOAT)

@@ -67,3 +67,16 @@ def test_a_renderer_still_draws_after_another_renderer_came_and_went(tmp_path, r
     with render.Renderer(size=16) as other:
         other.render(shader)
     assert renderer.render(shader).tobytes() == before.tobytes()
+
+
+def test_image_files_are_read_with_straight_alpha(tmp_path):
+    from mtlxgen import images
+    rgba = np.zeros((4, 4, 4), dtype=np.float32)
+    rgba[..., 0], rgba[..., 1], rgba[..., 3] = 1.0, 0.6, 0.25
+    for name in ("t.png", "t.exr"):
+        path = str(tmp_path / name)
+        images.write_image(path, rgba)
+        back = images.read_image(path)
+        stored = images.srgb_encode(np.array([1.0, 0.6, 0.0])) if name.endswith(".png") else [1.0, 0.6, 0.0]
+        assert back[0, 0, :3] == pytest.approx(stored, abs=2.5 / 255)    # as stored, not multiplied by alpha
+        assert back[0, 0, 3] == pytest.approx(0.25, abs=1 / 255)
