@@ -86,6 +86,7 @@ class Emitter:
         self.context = None           # closure context being emitted ("reflection", "indirect", ...)
         self.block = 0                # serial of the current closure block (closure variables live in it)
         self.closure_vars = {}        # (block, node id, output) -> variable
+        self.conditions = {}          # closure node id -> GLSL condition under which it is needed (None: always)
         self.indent = 1
 
     # ---------- services for templates and handlers ----------
@@ -208,20 +209,33 @@ class Emitter:
 
     def closure(self, src, context):
         """A closure Source evaluated in `context` inside the current block: its upstream closure nodes
-        are emitted first (each once per block); returns the GLSL expression of its value."""
+        are emitted first (each once per block); returns the GLSL expression of its value.
+
+        Each closure node is evaluated only where it can matter (see plan_closures): a lobe whose mix
+        factor or weight is zero costs nothing, its value being the empty closure."""
         self.uses_closures = True
         if src.node is None or src.node not in self.closure_nodes:
             return self.expr(src)
         key = (self.block, src.node, src.output)
         if key in self.closure_vars:
             return self.closure_vars[key]
+        if src.node not in self.conditions:
+            self.plan_closures(src)
         node = self.closure_nodes[src.node]
         impl = nodes.lookup(node.nodedef, self.graph.library)
         saved, self.context = self.context, context
         try:
+            cond = self.conditions.get(node.id)
             if impl.closure is not None:
                 template = impl.closure.get(context)
                 expr = self.render(template, node, src.type) if template else mxtypes.closure_zero(src.type)
+                weight = node.inputs.get("weight")
+                if template and src.type == "BSDF" and weight is not None and weight.type == "float":
+                    # a BSDF of (near) zero weight is the empty closure whatever its other inputs are
+                    # (as in MaterialX: e.g. gltf_pbr's sheen colour is 0/0 when sheen is off)
+                    cond = _conjoin(cond, "%s >= 1.0e-6" % self.input_expr(node, "weight"))
+                if not template:
+                    cond = None
             elif impl.outputs:
                 template = impl.outputs.get(src.output) or impl.outputs.get("*")
                 expr = self.render(template, node, src.type)
@@ -229,10 +243,46 @@ class Emitter:
                 self.fail(node, "closure node without a closure implementation")
         finally:
             self.context = saved
+        if cond is not None:
+            # GLSL evaluates only the chosen operand of ?:, so a disabled lobe is never computed
+            expr = "(%s) ? %s : %s" % (cond, expr, mxtypes.closure_zero(src.type))
         var = self.fresh("%s_%s" % (node.id, src.output))
         self.line("%s %s = %s;" % (self.glsl_type(src.type), var, expr))
         self.closure_vars[key] = var
         return var
+
+    # edges that carry a condition: (category, input) -> template of when the input's closure matters
+    EDGE_CONDITIONS = {("mix", "fg"): "{mix} > 0.0", ("mix", "bg"): "{mix} < 1.0"}
+
+    def plan_closures(self, root):
+        """When each closure node upstream of `root` is needed: None (always) or a GLSL condition, the
+        disjunction over its uses of (parent's condition && the edge's condition)."""
+        order, seen = [], set()
+
+        def visit(node_id):
+            if node_id in seen:
+                return
+            seen.add(node_id)
+            for s in self.closure_nodes[node_id].inputs.values():
+                if s.node in self.closure_nodes:
+                    visit(s.node)
+            order.append(node_id)
+
+        visit(root.node)
+        conds = {root.node: None}
+        for node_id in reversed(order):            # parents before children
+            node = self.closure_nodes[node_id]
+            for name, s in node.inputs.items():
+                if s.node not in self.closure_nodes:
+                    continue
+                edge = self.EDGE_CONDITIONS.get((node.category, name))
+                if edge is not None:
+                    edge = edge.format(**{k: self.expr(v) for k, v in node.inputs.items()
+                                          if not mxtypes.is_closure(v.type) and v.type != "string"})
+                use = _conjoin(conds.get(node_id), edge)
+                conds[s.node] = use if s.node not in conds else _disjoin(conds[s.node], use)
+        for node_id, c in conds.items():
+            self.conditions.setdefault(node_id, c)
 
     def emit_node(self, node):
         impl = nodes.lookup(node.nodedef, self.graph.library)
@@ -500,6 +550,18 @@ class VertexEmitter(Emitter):
             self.attributes.setdefault(a, t)
         self.app_uniforms.update(s.uniforms)
         return "(%s)" % s.fragment.format("(%s)" % s.vertex)
+
+
+def _conjoin(a, b):
+    if a is None or b is None:
+        return a if b is None else b
+    return "%s && %s" % (a, b)
+
+
+def _disjoin(a, b):
+    if a is None or b is None:
+        return None
+    return "(%s) || (%s)" % (a, b)
 
 
 def _is_plain_name(e):

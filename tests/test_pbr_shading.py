@@ -74,3 +74,23 @@ def test_vector_displacement_uses_the_tangent_frame(tmp_path):
   </surfacematerial>"""
     s = pipeline.generate(write_doc(tmp_path, body), ["dmat"])[0]
     assert "i_tangent" in s.vertex and "cross(i_normal, i_tangent)" in s.vertex
+
+
+MIXED = """
+  <oren_nayar_diffuse_bsdf name="red" type="BSDF"><input name="color" type="color3" value="1, 0, 0" /></oren_nayar_diffuse_bsdf>
+  <oren_nayar_diffuse_bsdf name="green" type="BSDF"><input name="color" type="color3" value="0, 1, 0" /></oren_nayar_diffuse_bsdf>
+  <mix name="m" type="BSDF"><input name="fg" type="BSDF" nodename="red" /><input name="bg" type="BSDF" nodename="green" />
+    <input name="mix" type="float" value="%s" /></mix>
+  <surface name="surf" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="m" /></surface>"""
+
+
+def test_closure_lobes_are_evaluated_only_where_their_mix_factor_lets_them_matter(tmp_path):
+    s = pipeline.generate(write_doc(tmp_path, MIXED % 0.0))[0]
+    main = s.fragment[s.fragment.index("void main()"):]
+    assert "(m_mix > 0.0 && red_weight >= 1.0e-6) ? mg_oren_nayar_indirect(" in main    # fg: factor above 0
+    assert "(m_mix < 1.0 && green_weight >= 1.0e-6) ? mg_oren_nayar_indirect(" in main  # bg: below 1
+
+
+@pytest.mark.parametrize("factor", [0.0, 0.3, 1.0])
+def test_guarded_lobes_render_as_unguarded_ones(tmp_path, renderer, reference, factor):
+    assert_parity_with_materialx(renderer, reference, write_doc(tmp_path, MIXED % factor), "surf")
