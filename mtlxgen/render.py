@@ -20,17 +20,26 @@ ENV_SAMPLES = 64
 
 
 def create_context():
-    """A headless OpenGL 4 context: EGL first (Mesa llvmpipe on CPU machines), then X11 when a display exists."""
+    """A headless OpenGL 4 context: EGL first (Mesa's llvmpipe on CPU machines), then OSMesa, then X11 when
+    a display exists. MTLXGEN_GL_BACKEND=egl|osmesa|x11 picks one."""
     import moderngl
+    forced = os.environ.get("MTLXGEN_GL_BACKEND", "").strip().lower()
+    backends = [forced] if forced else ["egl", "osmesa"] + (["x11"] if os.environ.get("DISPLAY") else [])
     errors = []
-    backends = ["egl"] + (["x11"] if os.environ.get("DISPLAY") else [])
     for backend in backends:
         try:
-            return moderngl.create_standalone_context(backend=backend, require=400)
+            if backend == "osmesa":
+                from .osmesa import create_context as osmesa_context
+                ctx = osmesa_context()
+            else:
+                ctx = moderngl.create_standalone_context(backend=backend if backend != "x11" else None, require=400)
+            if ctx.version_code < 400:
+                raise RuntimeError("OpenGL %d, 4.0 needed" % ctx.version_code)
+            return ctx
         except Exception as e:  # try the next backend
-            errors.append("%s: %s" % (backend, str(e).strip().splitlines()[-1] if str(e).strip() else e))
-    raise RuntimeError("no headless OpenGL 4 context (%s); install Mesa's EGL (libegl1, libgl1-mesa-dri)"
-                       % "; ".join(errors))
+            errors.append("%s: %s" % (backend, str(e).strip().splitlines()[-1] if str(e).strip() else type(e).__name__))
+    raise RuntimeError("no headless OpenGL 4 context (%s); install Mesa's EGL (libegl1 libgl1-mesa-dri) or "
+                       "OSMesa (libosmesa6)" % "; ".join(errors))
 
 
 def sphere(n_lon=128, n_lat=64):
@@ -165,7 +174,10 @@ class Renderer:
 
     def close(self):
         if self.ctx is not None:
+            loader = (self.ctx.extra or {}).get("osmesa") if isinstance(self.ctx.extra, dict) else None
             self.ctx.release()
+            if loader is not None:
+                loader.release()
             self.ctx = None
 
     def _float_texture(self, img, mipmaps, top_first=False):

@@ -80,3 +80,27 @@ def test_image_files_are_read_with_straight_alpha(tmp_path):
         stored = images.srgb_encode(np.array([1.0, 0.6, 0.0])) if name.endswith(".png") else [1.0, 0.6, 0.0]
         assert back[0, 0, :3] == pytest.approx(stored, abs=2.5 / 255)    # as stored, not multiplied by alpha
         assert back[0, 0, 3] == pytest.approx(0.25, abs=1 / 255)
+
+
+def test_the_osmesa_fallback_draws_what_egl_draws(tmp_path, monkeypatch):
+    from mtlxgen import osmesa
+    try:
+        osmesa._library()
+    except RuntimeError as e:
+        pytest.skip(str(e))
+    path = write_doc(tmp_path, """<nodegraph name="g"><normal name="n" type="vector3" />
+      <output name="out" type="vector3" nodename="n" /></nodegraph>""")
+    shader = pipeline.generate(path)[0]
+    images = {}
+    for backend in ("egl", "osmesa"):
+        monkeypatch.setenv("MTLXGEN_GL_BACKEND", backend)
+        with render.Renderer(size=32) as r:
+            images[backend] = r.render(shader)
+    assert images["egl"].tobytes() == images["osmesa"].tobytes()
+    assert (images["osmesa"][..., 3] > 0).mean() > 0.3
+
+
+def test_an_unknown_backend_is_reported(monkeypatch):
+    monkeypatch.setenv("MTLXGEN_GL_BACKEND", "nonesuch")
+    with pytest.raises(RuntimeError, match="no headless OpenGL 4 context"):
+        render.create_context()
