@@ -124,8 +124,8 @@ def run_job(job, library_dirs=()):
         item = Item(job.path, name, job.settings, pid=os.getpid(), gl_renderer=gl)
         t1 = time.perf_counter()
         try:
-            from .nodes.usd import uses_usd_nodes      # the pipeline's default for USD's seed rules
-            shader = emit.emit(graph.build_graph(doc, lib, name, usd_seed_rules=uses_usd_nodes(doc)))
+            from .nodes.usd import comes_from_usd      # the pipeline's default for USD's seed rules
+            shader = emit.emit(graph.build_graph(doc, lib, name, usd_seed_rules=comes_from_usd(doc)))
             t2 = time.perf_counter()
             item.image, gl_times = r.render_timed(shader.vertex, shader.fragment, shader.manifest)
             item.timings = {"load_s": load_s, "generate_s": t2 - t1, **gl_times,

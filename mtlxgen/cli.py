@@ -53,8 +53,8 @@ def cmd_info(args):
     doc = pipeline.load_document(args.file, args.library)
     print("%s (MaterialX %s)" % (args.file, doc.version))
     names = graph.renderable_elements(doc)
-    from .nodes.usd import uses_usd_nodes
-    usd_rules = uses_usd_nodes(doc) if args.usd_seed_rules is None else args.usd_seed_rules
+    from .nodes.usd import comes_from_usd
+    usd_rules = comes_from_usd(doc) if args.usd_seed_rules is None else args.usd_seed_rules
     status = 0
     for name in names:
         try:
@@ -186,7 +186,8 @@ def build_parser():
                        help="extra directory of .mtlx definitions (repeatable)")
         p.add_argument("--usd-seed-rules", action=argparse.BooleanOptionalAction, default=None,
                        help="USD preview nodes follow the UsdPreviewSurface seed's rules rather than MaterialX's "
-                            "nodegraphs (default: on for documents using USD's preview nodes)")
+                            "nodegraphs (default: on for documents from USD: USD's preview nodes in USD's own "
+                            "vocabulary, e.g. a `result` output or `sourceColorSpace`)")
 
     p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
     common(p)

@@ -209,6 +209,25 @@ class Index:
     def source(self, entry):
         return os.path.normpath(os.path.join(self.root, entry["source"]))
 
+    def portable_settings(self, settings):
+        """Recorded settings with an environment file under the project written relative to it, so the
+        index holds in any checkout."""
+        d = dict(settings)
+        env = d.get("environment")
+        if env and os.path.isabs(env) and os.path.exists(env):
+            rel = self.rel(env)
+            if not rel.startswith(".."):
+                d["environment"] = rel
+        return d
+
+    def settings(self, entry):
+        """RenderSettings of an index entry (a relative environment resolved against the project)."""
+        d = dict((entry or {}).get("settings") or {})
+        env = d.get("environment")
+        if env and not os.path.isabs(env) and os.path.exists(os.path.join(self.root, env)):
+            d["environment"] = os.path.normpath(os.path.join(self.root, env))
+        return RenderSettings.from_dict(d)
+
     def file(self, name):
         return os.path.join(self.dir, name)
 
@@ -317,7 +336,7 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
         mod, why = flip_module()
         if mod is None:
             notes.append(why)
-    settings_for = lambda t: RenderSettings.from_dict(t.entry.get("settings")) if t.entry else RenderSettings()
+    settings_for = lambda t: index.settings(t.entry) if t.entry else RenderSettings()
     tgts_render = [t for t in tgts if t.error is None and t.entry is not None]
     items = batch.render_jobs(_jobs(tgts_render, settings_for), workers=workers, progress=progress,
                               library_dirs=library_dirs)
@@ -407,7 +426,7 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
     def settings_for(t):
         if settings is not None:
             return settings
-        return RenderSettings.from_dict(t.entry.get("settings")) if t.entry else RenderSettings()
+        return index.settings(t.entry) if t.entry else RenderSettings()
 
     items = batch.render_jobs(_jobs(tgts, settings_for), workers=workers, progress=progress,
                               library_dirs=library_dirs)
@@ -422,7 +441,7 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
         img8 = to_srgb8(it.image)
         entry = {"source": index.rel(t.path), "element": t.element, "png": t.name + ".png",
                  "exr": t.name + ".exr" if is_hdr(it.image) else None,
-                 "settings": it.settings.to_dict(), "gl_renderer": it.gl_renderer}
+                 "settings": index.portable_settings(it.settings.to_dict()), "gl_renderer": it.gl_renderer}
         if t.entry and t.entry.get("tolerance"):
             entry["tolerance"] = t.entry["tolerance"]
         png, exr = index.file(entry["png"]), index.file(t.name + ".exr")

@@ -27,8 +27,8 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
     doc = load_document(path, library_dirs)
     names = elements or graph.renderable_elements(doc)
     if usd_seed_rules is None:
-        from .nodes.usd import uses_usd_nodes
-        usd_seed_rules = uses_usd_nodes(doc)
+        from .nodes.usd import comes_from_usd
+        usd_seed_rules = comes_from_usd(doc)
     if not names:
         raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
     problems, shaders = Problems(), []

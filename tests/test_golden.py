@@ -359,3 +359,15 @@ def test_progress_bar_on_terminal_and_in_logs():
     bar = batch.Progress(3, "render", stream=quiet)          # short runs stay quiet
     bar.advance(3)
     assert quiet.getvalue() == ""
+
+
+def test_environment_files_are_recorded_relative_to_the_project():
+    import os
+    from mtlxgen import golden
+    index = golden.Index()
+    env = os.path.join(index.root, "examples", "enterprise", "white_furnace.hdr")
+    recorded = index.portable_settings({"size": 64, "environment": env})
+    assert recorded["environment"] == "examples/enterprise/white_furnace.hdr"
+    assert index.settings({"settings": recorded}).environment == os.path.normpath(env)
+    for entry in index.goldens.values():       # the committed index holds in any checkout
+        assert not os.path.isabs(entry.get("settings", {}).get("environment") or "")

@@ -210,13 +210,25 @@ def test_opacity_is_alpha_not_refraction_with_the_rules(tmp_path):
     assert "mg_dielectric_transmission" in pipeline.generate(doc, usd_seed_rules=False)[0].fragment
 
 
-def test_rules_default_on_for_documents_with_usd_nodes(tmp_path):
-    doc = _surface_doc(tmp_path, [("metallic", "float", "1")])
-    assert "mg_conductor" not in pipeline.generate(doc)[0].fragment
+def test_rules_default_on_for_documents_from_usd(tmp_path):
+    # USD's own vocabulary (sourceColorSpace, which MaterialX's UsdUVTexture lacks) marks a document from USD
+    usd = _surface_doc(tmp_path, [("metallic", "float", "1")], name="usd.mtlx")
+    usd_text = open(usd).read().replace("</materialx>", """  <UsdUVTexture name="tex" type="multioutput">
+    <input name="file" type="filename" value="missing.png" />
+    <input name="sourceColorSpace" type="string" value="raw" />
+  </UsdUVTexture>
+</materialx>""")
+    open(usd, "w").write(usd_text)
+    assert "mg_conductor" not in pipeline.generate(usd)[0].fragment
+    # MaterialX's vocabulary only (like MaterialX's Examples/UsdPreviewSurface): MaterialX's nodegraphs
+    mx = _surface_doc(tmp_path, [("metallic", "float", "1")], name="mx.mtlx")
+    assert "mg_conductor" in pipeline.generate(mx)[0].fragment
     plain = write_doc(tmp_path, '<output name="o" type="float" value="1" />', name="plain.mtlx")
     from mtlxgen.document import load
-    from mtlxgen.nodes.usd import uses_usd_nodes
-    assert uses_usd_nodes(load(doc)) and not uses_usd_nodes(load(plain))
+    from mtlxgen.nodes.usd import comes_from_usd, uses_usd_nodes
+    assert comes_from_usd(load(usd)) and not comes_from_usd(load(mx)) and not comes_from_usd(load(plain))
+    assert uses_usd_nodes(load(mx)) and not uses_usd_nodes(load(plain))
+    assert comes_from_usd(load(os.path.join(ROOT, "examples", "usd", "usd_seed_rules.mtlx")))
 
 
 def _cli(*args):
@@ -226,7 +238,7 @@ def _cli(*args):
 def test_cli_switches_the_rules(tmp_path):
     doc = _surface_doc(tmp_path, [("metallic", "float", "1")])
     out = str(tmp_path / "out")
-    for flag, conductor in (("--usd-seed-rules", False), ("--no-usd-seed-rules", True), (None, False)):
+    for flag, conductor in (("--usd-seed-rules", False), ("--no-usd-seed-rules", True), (None, True)):
         r = _cli(*[a for a in ("generate", doc, "-o", out, flag) if a])
         assert r.returncode == 0, r.stderr
         assert ("mg_conductor" in open(os.path.join(out, "mat.frag")).read()) == conductor, flag

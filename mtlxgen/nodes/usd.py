@@ -2,9 +2,13 @@
 usd_preview_surface.mtlx departs from it.
 
 The rules are switched by the pipeline option `usd_seed_rules` (CLI `--usd-seed-rules` /
-`--no-usd-seed-rules`). Left unset, they are on for documents that come from USD, which we detect as
-documents using any of USD's preview nodes (UsdPreviewSurface, UsdUVTexture, UsdPrimvarReader,
-UsdTransform2d); those are the only nodes the rules touch, so other documents never change.
+`--no-usd-seed-rules`). Left unset, they are on for documents that come from USD (comes_from_usd): a
+document using USD's preview nodes (UsdPreviewSurface, UsdUVTexture, UsdPrimvarReader, UsdTransform2d)
+*and* USD's own vocabulary, which MaterialX's usd_preview_surface.mtlx does not know: a `result` output
+of a USD node, UsdUVTexture's `sourceColorSpace` input, or the wrap tokens `repeat` / `useMetadata`.
+A document written against MaterialX's nodedefs alone (e.g. MaterialX's own Examples/UsdPreviewSurface)
+keeps MaterialX's nodegraphs, as its author saw them in MaterialX; pass the option to choose either way.
+The rules only touch USD's preview nodes, so other documents never change.
 
 With the rules on, graph building resolves these categories to our own nodedefs in
 glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES), and accepts the seed's
@@ -41,6 +45,38 @@ def uses_usd_nodes(doc):
     """True for a document that comes from USD: it uses one of USD's preview nodes anywhere."""
     graphs = [doc.nodes] + [g.nodes for g in doc.nodegraphs.values()]
     return any(n.category in USD_CATEGORIES for nodes in graphs for n in nodes.values())
+
+
+# what only USD's side of the preview nodes says (MaterialX's usd_preview_surface.mtlx has none of it)
+_USD_ONLY_INPUTS = {"UsdUVTexture": ("sourceColorSpace",)}
+_USD_ONLY_WRAPS = ("repeat", "useMetadata")
+
+
+def comes_from_usd(doc):
+    """True for a document from USD: it uses USD's preview nodes in USD's own vocabulary (see above)."""
+    graphs = [doc.nodes] + [g.nodes for g in doc.nodegraphs.values()]
+    usd_names = set()
+    for nodes in graphs:
+        usd_names.update(name for name, n in nodes.items() if n.category in USD_CATEGORIES)
+    if not usd_names:
+        return False
+    outputs = [doc.outputs] + [g.outputs for g in doc.nodegraphs.values()]
+    ports = [p for nodes in graphs for n in nodes.values() for p in n.inputs.values()]
+    ports += [p for outs in outputs for p in outs.values()]
+    for p in ports:
+        if p.output == "result" and p.nodename in usd_names:
+            return True
+    for nodes in graphs:
+        for n in nodes.values():
+            if n.category not in USD_CATEGORIES:
+                continue
+            if any(name in n.inputs for name in _USD_ONLY_INPUTS.get(n.category, ())):
+                return True
+            for name in ("wrapS", "wrapT"):
+                p = n.inputs.get(name)
+                if p is not None and (p.text or p.value) in _USD_ONLY_WRAPS:
+                    return True
+    return False
 
 
 def seed_nodedef(node, library):

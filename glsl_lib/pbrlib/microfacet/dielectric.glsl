@@ -1,6 +1,7 @@
 // requires: constants.glsl closures.glsl pbrlib/microfacet/scatter_mode.glsl pbrlib/microfacet/microfacet_reflection.glsl lighting/environment_specular.glsl lighting/environment_refraction.glsl
 // dielectric_bsdf (MaterialX Specification 1.39, pbrlib): GGX reflection with the dielectric Fresnel
-// curve, tinted; transmission by refraction; what it does not reflect passes below (albedo scaling).
+// curve, tinted; transmission by refraction; what it does not reflect passes below (albedo scaling: the
+// compensated lobe's albedo E c, so that a layer over a white base stays at 1 in the white furnace).
 
 vec3 mg_dielectric_reflected_albedo(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr)
 {
@@ -17,7 +18,7 @@ BSDF mg_dielectric_reflection(vec3 L, vec3 V, float weight, vec3 tint, float ior
     MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
     float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
     vec3 f = mg_microfacet_reflection(L, V, frame, alpha, fr, retro) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
-    vec3 E = mg_ggx_albedo(NdotV, alpha, fr);
+    vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
     return BSDF(f * tint * weight, 1.0 - weight * E);
 }
 
@@ -31,7 +32,7 @@ BSDF mg_dielectric_indirect(vec3 V, float weight, vec3 tint, float ior, vec2 rou
     MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
     float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
     vec3 Li = mg_env_specular(V, frame, alpha, fr, retro) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
-    vec3 E = mg_ggx_albedo(NdotV, alpha, fr);
+    vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
     return BSDF(Li * tint * weight, 1.0 - weight * E);
 }
 
@@ -41,7 +42,7 @@ BSDF mg_dielectric_transmission(vec3 V, float weight, vec3 tint, float ior, vec2
     vec2 alpha = mg_ggx_alpha(roughness);
     MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
     float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
-    vec3 E = mg_ggx_albedo(NdotV, alpha, fr);
+    vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
     if (mode == mg_scatter_R)
         return BSDF(vec3(0.0), 1.0 - weight * E);
     vec3 through = 1.0 - E;

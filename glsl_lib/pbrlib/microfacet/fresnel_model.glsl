@@ -50,17 +50,11 @@ vec3 mg_fresnel_eval(MgFresnel f, float cosTheta)
 {
     if (f.film_thickness <= 0.0)
         return mg_fresnel_base(f, cosTheta);
-    float c2 = mg_thin_film_cos2(cosTheta, f.film_ior);
-    vec3 R23;
-    float phi23 = MG_PI;
     if (f.model == MG_FRESNEL_DIELECTRIC)
-    {
-        R23 = vec3(mg_fresnel_dielectric(c2, f.ior.x / f.film_ior));
-        phi23 = f.ior.x > f.film_ior ? MG_PI : 0.0;
-    }
-    else if (f.model == MG_FRESNEL_CONDUCTOR)
-        R23 = mg_fresnel_conductor(c2, f.ior / f.film_ior, f.extinction / f.film_ior);
-    else
-        R23 = mg_fresnel_schlick(c2, f.F0, f.F90, f.exponent);
-    return mg_thin_film_reflectance(cosTheta, f.film_ior, f.film_thickness, R23, phi23);
+        return mg_thin_film_over_ior(cosTheta, f.film_ior, f.film_thickness, f.ior, vec3(0.0));
+    if (f.model == MG_FRESNEL_CONDUCTOR)
+        return mg_thin_film_over_ior(cosTheta, f.film_ior, f.film_thickness, f.ior, f.extinction);
+    float c2 = mg_thin_film_cos2(cosTheta, f.film_ior);
+    vec3 R23 = mg_fresnel_schlick(c2, f.F0, f.F90, f.exponent);
+    return mg_thin_film_reflectance(cosTheta, f.film_ior, f.film_thickness, R23, MG_PI);
 }
