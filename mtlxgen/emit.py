@@ -369,11 +369,9 @@ class Emitter:
             return "vec4(%s, 1.0)" % e
         if t in ("color4", "vector4"):
             return e
-        if t in ("matrix33", "matrix44"):      # not in the contract: the first column, for inspection
-            return "vec4(%s[0].xyz, 1.0)" % e
-        if t == "displacementshader":
-            self.uses_closures = True
-            return "vec4(%s.offset * %s.scale, 1.0)" % (e, e)
+        if t in ("matrix33", "matrix44", "displacementshader"):
+            # no colour meaning (MaterialX draws these black too); a displacement still moves the vertices
+            return "vec4(0.0, 0.0, 0.0, 1.0)"
         if t == "lightshader":
             self.uses_closures = True
             return "vec4(%s.intensity, 1.0)" % e

@@ -1,5 +1,5 @@
-"""Reference parity: the corpus math, trig and vector-math elements against MaterialX's own GLSL,
-both drawn by our harness, under the scoreboard's thresholds."""
+"""Reference parity: corpus math, trig, vector-math, conditional and application elements against
+MaterialX's own GLSL, both drawn by our harness, under the scoreboard's thresholds."""
 import os
 
 import pytest
@@ -7,12 +7,13 @@ import pytest
 from conftest import TESTSUITE
 from util import assert_parity_with_materialx
 
-FILES = ["math.mtlx", "trig.mtlx", "vector_math.mtlx", "math_operators.mtlx"]
+FILES = ["math/math.mtlx", "math/trig.mtlx", "math/vector_math.mtlx", "math/math_operators.mtlx",
+         "conditional/conditional_if_int.mtlx", "application/time_frame.mtlx"]
 
 # Differences kept on purpose: (file, element) -> the error we give instead of MaterialX's render.
 DELIBERATE = {
     # the corpus writes "0.5.0" inside a matrix44 value; MaterialX reads 0.5, we report the bad value
-    ("vector_math.mtlx", "determinant_matrix44/out"): "not a number in",
+    ("math/vector_math.mtlx", "determinant_matrix44/out"): "not a number in",
 }
 
 
@@ -21,7 +22,7 @@ def test_math_corpus_matches_materialx(name, renderer, reference):
     from mtlxgen import document, graph
     from mtlxgen.diagnostics import MtlxError
     from mtlxgen.library import load_library
-    path = os.path.join(TESTSUITE, "stdlib", "math", name)
+    path = os.path.join(TESTSUITE, "stdlib", name)
     assert os.path.exists(path), "corpus missing: %s" % path
     lib = load_library()
     doc = document.load(path)
