@@ -340,7 +340,9 @@ class GraphBuilder:
                 src = self.source_of_port(port, scope, decl.type, node.name)
                 if src is not None:
                     self.check_type(port, src, "input '%s' of node '%s'" % (name, node.name))
-            if src is None and (port is None or port.value is None) and decl.defaultgeomprop:
+            if src is None and decl.defaultgeomprop:
+                # an unconnected input with a default geomprop reads the geometry even where the document
+                # authors a value (as MaterialX's generator does: gltf_pbr_default's normal = (0, 0, 1))
                 src = self.geom_source(decl.defaultgeomprop, (port or decl).loc if port else node.loc, scope)
             if src is None:
                 p = port if port is not None else decl

@@ -20,35 +20,11 @@ vec3 mg_refraction_solid_sphere(vec3 I, vec3 N, float ior)
     return dot(R2, R2) < 1.0e-8 ? reflect(R1, -N2) : R2;
 }
 
-// Mean environment radiance over a GGX lobe of roughness alpha about the direction T: visible normals
-// sampled at normal incidence in a frame about T, each mirrored direction read at the mip level of its
-// density (Krivanek & Colbert 2008), without masking or Fresnel (the lobe is normalized: a uniform
-// environment comes through unchanged).
-vec3 mg_env_lobe(vec3 T, vec3 Tg, vec2 alpha)
-{
-    mat3 frame = mg_tangent_frame(T, Tg);
-    int n = max(u_envRadianceSamples, 1);
-    vec3 up = vec3(0.0, 0.0, 1.0);
-    vec3 sum = vec3(0.0);
-    for (int i = 0; i < n; ++i)
-    {
-        vec3 H = mg_ggx_sample_vndf(up, alpha, mg_hammersley(i, n));
-        vec3 Lt = reflect(-up, H);
-        // density of the mirrored direction at normal incidence: D(h) h.z / (4 v.h) with v = z
-        float pdf = mg_ggx_D(H, alpha) * H.z / (4.0 * max(H.z, 1.0e-4));
-        vec3 L = frame * Lt;
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, n));
-    }
-    return sum / float(n);
-}
-
 vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha)
 {
     vec3 T = mg_refraction_solid_sphere(-V, N, ior);
 #ifdef MG_REFRACTION_PREFILTERED
     return mg_env_radiance(T, MG_REFRACTION_LOD(alpha));
-#elif defined(MG_REFRACTION_LOBE)
-    return mg_env_lobe(T, Tg, alpha * MG_REFRACTION_ALPHA_SCALE);
 #else
     // the GGX lobe about T, by the reflection sampler with the normal turned away from the viewer
     mat3 frame = mg_tangent_frame(-N, Tg);

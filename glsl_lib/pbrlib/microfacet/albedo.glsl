@@ -13,11 +13,13 @@ vec2 mg_ggx_albedo_split(float mu, vec2 alpha)
 #endif
 }
 
-// Albedo of the single-scattering lobe with the node's Fresnel curve (its Schlick endpoints).
+// Albedo of the single-scattering lobe with the node's Fresnel curve (its Schlick endpoints). A thin film
+// on a dielectric leaves this albedo (what the lobe takes from the layers below) at the bare interface's,
+// as MaterialX's layering does (measured); on other curves the film's reflectance at mu scales the lobe.
 vec3 mg_ggx_albedo(float mu, vec2 alpha, MgFresnel f)
 {
     vec2 ab = mg_ggx_albedo_split(mu, alpha);
-    if (f.film_thickness > 0.0)
+    if (f.film_thickness > 0.0 && f.model != MG_FRESNEL_DIELECTRIC)
         return mg_fresnel_eval(f, mu) * (ab.x + ab.y);
     return f.F0 * ab.x + f.F90 * ab.y;
 }
