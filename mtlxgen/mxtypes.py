@@ -82,6 +82,8 @@ class ValueError_(ValueError):
 
 def _floats(text, count):
     parts = [p.strip() for p in text.split(",")]
+    if len(parts) == 1 and len(text.split()) == count:
+        parts = text.split()            # written space-separated (seen in the wild; MaterialX reads it too)
     if len(parts) != count:
         raise ValueError_("expected %d comma-separated numbers, got %d in %r" % (count, len(parts), text))
     try:

@@ -17,6 +17,7 @@ from util import write_doc
     ("boolean", "true", True),
     ("boolean", "false", False),
     ("color3", "0.1, 0.2, 0.3", (0.1, 0.2, 0.3)),
+    ("color3", "0.1 0.2 0.3", (0.1, 0.2, 0.3)),
     ("color4", "0.1,0.2,0.3,0.4", (0.1, 0.2, 0.3, 0.4)),
     ("vector2", "1, 2", (1.0, 2.0)),
     ("vector3", "1, 2, 3", (1.0, 2.0, 3.0)),
@@ -39,7 +40,8 @@ def test_values_parse_into_typed_python_values(type_name, text, expected):
 
 @pytest.mark.parametrize("type_name,text", [
     ("float", "abc"), ("integer", "1.5"), ("boolean", "maybe"), ("color3", "1, 2"),
-    ("vector2", "1, x"), ("matrix33", "1,2,3"), ("vector2array", "1, 2, 3"),
+    ("vector2", "1, x"), ("matrix33", "1,2,3"), ("vector2array", "1, 2, 3"), ("color3", "1 2"),
+    ("matrix33", "1,0,0, 0,1,0, 0,0.5.0,1"),
 ])
 def test_values_that_do_not_fit_their_type_are_rejected(type_name, text):
     with pytest.raises(mxtypes.ValueError_):
