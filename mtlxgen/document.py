@@ -318,7 +318,33 @@ def build(root, path, source="document"):
         if name:
             doc.order.append(name)
     problems.raise_if_any()
+    _substitute_tokens(doc)
     return doc
+
+
+def _substitute_tokens(doc):
+    """Expand [TOKEN] in filename values from <token>s: the node's own, then its nodegraph's, then
+    the nodedef the nodegraph implements (top-level tokens are not used, as in MaterialX)."""
+    def substitute(port, *scopes):
+        if port.type != "filename" or not port.text or "[" not in port.text:
+            return
+        text = port.text
+        for scope in scopes:
+            for name, token in scope.items():
+                text = text.replace("[%s]" % name, token.text or "")
+        port.text = port.value = text
+
+    for g in doc.nodegraphs.values():
+        nd = doc.nodedefs.get(g.nodedef) if g.nodedef else None
+        nd_tokens = nd.tokens if nd is not None else {}
+        for port in g.inputs.values():
+            substitute(port, g.tokens, nd_tokens)
+        for node in g.nodes.values():
+            for port in node.inputs.values():
+                substitute(port, node.tokens, g.tokens, nd_tokens)
+    for node in doc.nodes.values():
+        for port in node.inputs.values():
+            substitute(port, node.tokens)
 
 
 def load(path, search_paths=(), source="document"):

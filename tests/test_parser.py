@@ -154,3 +154,24 @@ def test_typedef_members_define_struct_types(tmp_path):
   </typedef>""")
     doc = document.load(path)
     assert doc.structs["pair"].members == [("a", "float", "1.0"), ("b", "vector2", "0, 1")]
+
+
+def test_filename_tokens_come_from_the_node_its_graph_and_the_implemented_nodedef(tmp_path):
+    path = write_doc(tmp_path, """
+  <token name="ext" type="string" value="top" />
+  <nodedef name="ND_tok" node="tok">
+    <token name="name" type="string" value="from_nodedef" />
+    <output name="out" type="color3" />
+  </nodedef>
+  <nodegraph name="NG_tok" nodedef="ND_tok">
+    <token name="ext" type="string" value="png" />
+    <image name="img" type="color3"><input name="file" type="filename" value="[name].[ext]" /></image>
+    <image name="own" type="color3">
+      <token name="name" type="string" value="mine" />
+      <input name="file" type="filename" value="[name].[ext]" />
+    </image>
+    <output name="out" type="color3" nodename="img" />
+  </nodegraph>""")
+    g = document.load(path).nodegraphs["NG_tok"]
+    assert g.nodes["img"].inputs["file"].value == "from_nodedef.png"    # top-level tokens are not used
+    assert g.nodes["own"].inputs["file"].value == "mine.png"            # the node's own token wins
