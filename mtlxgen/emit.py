@@ -252,7 +252,8 @@ class Emitter:
         return var
 
     # edges that carry a condition: (category, input) -> template of when the input's closure matters
-    EDGE_CONDITIONS = {("mix", "fg"): "{mix} > 0.0", ("mix", "bg"): "{mix} < 1.0"}
+    # (exactly: mix extrapolates outside [0, 1], so only the factors 0 and 1 drop a side)
+    EDGE_CONDITIONS = {("mix", "fg"): "{mix} != 0.0", ("mix", "bg"): "{mix} != 1.0"}
 
     def plan_closures(self, root):
         """When each closure node upstream of `root` is needed: None (always) or a GLSL condition, the

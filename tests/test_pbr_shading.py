@@ -87,10 +87,10 @@ MIXED = """
 def test_closure_lobes_are_evaluated_only_where_their_mix_factor_lets_them_matter(tmp_path):
     s = pipeline.generate(write_doc(tmp_path, MIXED % 0.0))[0]
     main = s.fragment[s.fragment.index("void main()"):]
-    assert "(m_mix > 0.0 && red_weight >= 1.0e-6) ? mg_oren_nayar_indirect(" in main    # fg: factor above 0
-    assert "(m_mix < 1.0 && green_weight >= 1.0e-6) ? mg_oren_nayar_indirect(" in main  # bg: below 1
+    assert "(m_mix != 0.0 && red_weight >= 1.0e-6) ? mg_oren_nayar_indirect(" in main    # fg unless factor 0
+    assert "(m_mix != 1.0 && green_weight >= 1.0e-6) ? mg_oren_nayar_indirect(" in main  # bg unless factor 1
 
 
-@pytest.mark.parametrize("factor", [0.0, 0.3, 1.0])
+@pytest.mark.parametrize("factor", [0.0, 0.3, 1.0, 1.5, -0.5])     # mix extrapolates outside [0, 1]
 def test_guarded_lobes_render_as_unguarded_ones(tmp_path, renderer, reference, factor):
     assert_parity_with_materialx(renderer, reference, write_doc(tmp_path, MIXED % factor), "surf")
