@@ -102,15 +102,13 @@ def _error_lines(e):
 
 def run_job(job, library_dirs=()):
     """Render one job in this process. Never raises for bad input: failures become Items with errors."""
-    from . import emit, graph, library, pipeline
+    from . import library, pipeline
     items = []
     try:
-        lib = library.load_library(library_dirs)     # once per process (memoized): not a material's cost
+        library.load_library(library_dirs)           # once per process (memoized): not a material's cost
         t0 = time.perf_counter()
-        doc = pipeline.load_document(job.path, library_dirs)
-        names = list(job.elements) or graph.renderable_elements(doc)
-        if not names:
-            raise MtlxError((Loc(job.path, 1), "nothing to render: no material, shader or output elements"))
+        session = pipeline.Session(job.path, job.elements, library_dirs)
+        names = session.elements
     except Exception as e:  # the file as a whole
         return [Item(job.path, el, job.settings, error=_error_lines(e), pid=os.getpid())
                 for el in (job.elements or ("",))]
@@ -124,8 +122,7 @@ def run_job(job, library_dirs=()):
         item = Item(job.path, name, job.settings, pid=os.getpid(), gl_renderer=gl)
         t1 = time.perf_counter()
         try:
-            from .nodes.usd import comes_from_usd      # the pipeline's default for USD's seed rules
-            shader = emit.emit(graph.build_graph(doc, lib, name, usd_seed_rules=comes_from_usd(doc)))
+            shader = session.shader(name)
             t2 = time.perf_counter()
             item.image, gl_times = r.render_timed(shader.vertex, shader.fragment, shader.manifest)
             item.timings = {"load_s": load_s, "generate_s": t2 - t1, **gl_times,

@@ -48,17 +48,13 @@ def cmd_render(args):
 
 
 def cmd_info(args):
-    from . import graph, library, pipeline
-    lib = library.load_library(args.library)
-    doc = pipeline.load_document(args.file, args.library)
-    print("%s (MaterialX %s)" % (args.file, doc.version))
-    names = graph.renderable_elements(doc)
-    from .nodes.usd import comes_from_usd
-    usd_rules = comes_from_usd(doc) if args.usd_seed_rules is None else args.usd_seed_rules
+    from . import pipeline
+    session = pipeline.Session(args.file, None, args.library, args.usd_seed_rules)
+    print("%s (MaterialX %s)" % (args.file, session.doc.version))
     status = 0
-    for name in names:
+    for name in session.elements:
         try:
-            g = graph.build_graph(doc, lib, name, usd_seed_rules=usd_rules)
+            g = session.graph(name)
             print("  %s [%s] %d nodes, %d uniforms" % (name, g.kind, len(g.nodes), len(g.uniforms)))
             for n in g.nodes:
                 print("    %-28s %s" % (n.id, n.nodedef.name))

@@ -6,8 +6,8 @@ inherited down the tree and applied here, so later stages never look at ancestor
 from dataclasses import dataclass, field
 
 from . import mxtypes
-from .diagnostics import Loc, MtlxError, Problems
-from .xmlreader import XElement, read_file
+from .diagnostics import Loc, Problems
+from .xmlreader import read_file
 
 # Element tags that are not nodes.
 NON_NODE_TAGS = {

@@ -11,7 +11,7 @@ import os
 from dataclasses import dataclass, field
 
 from . import mxtypes, nodes, streams
-from .diagnostics import Loc, MtlxError
+from .diagnostics import MtlxError
 from .graph import glsl_identifier, unique_identifier
 from .library import glsl_lib_root
 

@@ -12,7 +12,6 @@ from dataclasses import dataclass, field
 
 from . import mxtypes
 from .diagnostics import Loc, MtlxError, Problems
-from .document import version_tuple
 
 
 @dataclass

@@ -130,7 +130,10 @@ class Library:
             nd.inherit = None
 
     def overlay(self, doc):
-        """A new Library: this one plus the definitions a document declares itself."""
+        """A new Library: this one plus the definitions a document declares itself (this one when it
+        already is that overlay)."""
+        if getattr(self, "overlaid", None) is doc:
+            return self
         if not (doc.nodedefs or doc.implementations or doc.structs or doc.unitdefs or doc.geompropdefs
                 or any(g.nodedef for g in doc.nodegraphs.values())):
             return self
@@ -141,6 +144,7 @@ class Library:
                       files=self.files)
         lib.add_document(doc, overlay=True)
         lib.flatten_inheritance()
+        lib.overlaid = doc
         return lib
 
 

@@ -14,6 +14,29 @@ def load_document(path, library_dirs=()):
     return upgrade(doc)
 
 
+class Session:
+    """A document opened for generation: the libraries with the document's own definitions, the
+    elements to draw, and whether USD's seed rules apply. Build its elements with graph() / shader()."""
+
+    def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None):
+        self.path = path
+        self.doc = load_document(path, library_dirs)
+        self.library = library.load_library(library_dirs).overlay(self.doc)   # once per document
+        self.elements = list(elements or graph.renderable_elements(self.doc))
+        if usd_seed_rules is None:
+            from .nodes.usd import comes_from_usd
+            usd_seed_rules = comes_from_usd(self.doc)
+        self.usd_seed_rules = usd_seed_rules
+        if not self.elements:
+            raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
+
+    def graph(self, name):
+        return graph.build_graph(self.doc, self.library, name, usd_seed_rules=self.usd_seed_rules)
+
+    def shader(self, name):
+        return emit.emit(self.graph(name))
+
+
 def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
 
@@ -23,19 +46,11 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
-    lib = library.load_library(library_dirs)
-    doc = load_document(path, library_dirs)
-    names = elements or graph.renderable_elements(doc)
-    if usd_seed_rules is None:
-        from .nodes.usd import comes_from_usd
-        usd_seed_rules = comes_from_usd(doc)
-    if not names:
-        raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
+    session = Session(path, elements, library_dirs, usd_seed_rules)
     problems, shaders = Problems(), []
-    for name in names:
+    for name in session.elements:
         try:
-            g = graph.build_graph(doc, lib, name, usd_seed_rules=usd_seed_rules)
-            shaders.append(emit.emit(g))
+            shaders.append(session.shader(name))
         except MtlxError as e:
             problems.extend(e)
     if partial:
