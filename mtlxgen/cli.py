@@ -271,6 +271,12 @@ def main(argv=None):
         return _report(e)
     except KeyboardInterrupt:
         return 130
+    except BrokenPipeError:            # output piped into a reader that stopped early (e.g. `| head`)
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
     except RecursionError:
         print("%s: error: the document nests too deeply to process" % getattr(args, "file", "mtlxgen"), file=sys.stderr)
         return 1

@@ -139,3 +139,11 @@ def test_render_writes_png_and_exr(tmp_path):
     exr = read_image(str(tmp_path / "r" / "m.exr"))
     assert png.shape == (32, 32, 4) and exr.shape == (32, 32, 4)
     assert exr[16, 16, :3] == pytest.approx([0.2, 0.4, 0.8], abs=1e-3)
+
+
+def test_output_piped_into_a_reader_that_stops_early_is_not_an_error():
+    path = os.path.join(ROOT, "examples", "pbs", "pbs_nodes.mtlx")
+    proc = subprocess.run("%s %s info %s | head -n 1" % (sys.executable, os.path.join(ROOT, "cli.py"), path),
+                          shell=True, capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert proc.stdout.startswith(path) or "pbs_nodes.mtlx" in proc.stdout
+    assert "internal error" not in proc.stderr and "Traceback" not in proc.stderr
