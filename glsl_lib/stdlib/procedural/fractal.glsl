@@ -1,57 +1,26 @@
 // requires: stdlib/procedural/perlin.glsl
 // Fractional Brownian motion (Musgrave, "Texturing and Modeling", ch. 16): octaves of Perlin noise summed.
 
-float mg_fbm(vec2 p, int octaves, float lacunarity, float diminish)
-{
-    float sum = 0.0;
-    float weight = 1.0;
-    for (int i = 0; i < octaves; ++i)
-    {
-        sum += weight * mg_perlin(p);
-        weight *= diminish;
-        p *= lacunarity;
+// One definition per (result type, point type, noise): octaves of noise, each lacunarity times finer
+// and diminish times weaker.
+#define MG_FBM(R, P, NOISE, NAME)                                               \
+    R NAME(P p, int octaves, float lacunarity, float diminish)                  \
+    {                                                                           \
+        R sum = R(0.0);                                                         \
+        float weight = 1.0;                                                     \
+        for (int i = 0; i < octaves; ++i)                                       \
+        {                                                                       \
+            sum += weight * NOISE(p);                                           \
+            weight *= diminish;                                                 \
+            p *= lacunarity;                                                    \
+        }                                                                       \
+        return sum;                                                             \
     }
-    return sum;
-}
 
-float mg_fbm(vec3 p, int octaves, float lacunarity, float diminish)
-{
-    float sum = 0.0;
-    float weight = 1.0;
-    for (int i = 0; i < octaves; ++i)
-    {
-        sum += weight * mg_perlin(p);
-        weight *= diminish;
-        p *= lacunarity;
-    }
-    return sum;
-}
-
-vec3 mg_fbm_vec3(vec2 p, int octaves, float lacunarity, float diminish)
-{
-    vec3 sum = vec3(0.0);
-    float weight = 1.0;
-    for (int i = 0; i < octaves; ++i)
-    {
-        sum += weight * mg_perlin_vec3(p);
-        weight *= diminish;
-        p *= lacunarity;
-    }
-    return sum;
-}
-
-vec3 mg_fbm_vec3(vec3 p, int octaves, float lacunarity, float diminish)
-{
-    vec3 sum = vec3(0.0);
-    float weight = 1.0;
-    for (int i = 0; i < octaves; ++i)
-    {
-        sum += weight * mg_perlin_vec3(p);
-        weight *= diminish;
-        p *= lacunarity;
-    }
-    return sum;
-}
+MG_FBM(float, vec2, mg_perlin, mg_fbm)
+MG_FBM(float, vec3, mg_perlin, mg_fbm)
+MG_FBM(vec3, vec2, mg_perlin_vec3, mg_fbm_vec3)
+MG_FBM(vec3, vec3, mg_perlin_vec3, mg_fbm_vec3)
 
 // extra scalar channels sample the scalar fBm at a fixed, decorrelating offset
 const vec2 MG_FBM_OFFSET_2D = vec2(19.0, 193.0);
