@@ -64,40 +64,17 @@ vec3 mg_worley_sqdist(vec3 p, float jitter, out vec3 nearest_cell)
 
 // style 0 (Distance): distances to the nearest 1, 2 or 3 feature points;
 // style 1 (Solid): a constant random value per Voronoi cell (that of the nearest feature point's cell).
-float mg_worley_float(vec2 p, float jitter, int style)
-{
-    vec2 c;
-    vec3 d = mg_worley_sqdist(p, jitter, c);
-    return style == 1 ? mg_cellnoise(c) : sqrt(d.x);
-}
-vec2 mg_worley_vec2(vec2 p, float jitter, int style)
-{
-    vec2 c;
-    vec3 d = mg_worley_sqdist(p, jitter, c);
-    return style == 1 ? mg_cellnoise_vec3(c).xy : sqrt(d.xy);
-}
-vec3 mg_worley_vec3(vec2 p, float jitter, int style)
-{
-    vec2 c;
-    vec3 d = mg_worley_sqdist(p, jitter, c);
-    return style == 1 ? mg_cellnoise_vec3(c) : sqrt(d);
-}
+#define MG_WORLEY(R, NAME, P, SOLID, DIST)                                      \
+    R NAME(P p, float jitter, int style)                                        \
+    {                                                                           \
+        P c;                                                                    \
+        vec3 d = mg_worley_sqdist(p, jitter, c);                                \
+        return style == 1 ? SOLID : DIST;                                       \
+    }
 
-float mg_worley_float(vec3 p, float jitter, int style)
-{
-    vec3 c;
-    vec3 d = mg_worley_sqdist(p, jitter, c);
-    return style == 1 ? mg_cellnoise(c) : sqrt(d.x);
-}
-vec2 mg_worley_vec2(vec3 p, float jitter, int style)
-{
-    vec3 c;
-    vec3 d = mg_worley_sqdist(p, jitter, c);
-    return style == 1 ? mg_cellnoise_vec3(c).xy : sqrt(d.xy);
-}
-vec3 mg_worley_vec3(vec3 p, float jitter, int style)
-{
-    vec3 c;
-    vec3 d = mg_worley_sqdist(p, jitter, c);
-    return style == 1 ? mg_cellnoise_vec3(c) : sqrt(d);
-}
+MG_WORLEY(float, mg_worley_float, vec2, mg_cellnoise(c), sqrt(d.x))
+MG_WORLEY(vec2, mg_worley_vec2, vec2, mg_cellnoise_vec3(c).xy, sqrt(d.xy))
+MG_WORLEY(vec3, mg_worley_vec3, vec2, mg_cellnoise_vec3(c), sqrt(d))
+MG_WORLEY(float, mg_worley_float, vec3, mg_cellnoise(c), sqrt(d.x))
+MG_WORLEY(vec2, mg_worley_vec2, vec3, mg_cellnoise_vec3(c).xy, sqrt(d.xy))
+MG_WORLEY(vec3, mg_worley_vec3, vec3, mg_cellnoise_vec3(c), sqrt(d))
