@@ -8,6 +8,7 @@ import os
 import sys
 
 from .diagnostics import Loc, MtlxError
+from .emit import ENVIRONMENT_METHODS
 
 
 def _report(e):
@@ -19,7 +20,8 @@ def _report(e):
 def cmd_generate(args):
     from . import pipeline
     shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
-                                       partial=True, usd_seed_rules=args.usd_seed_rules)
+                                       partial=True, usd_seed_rules=args.usd_seed_rules,
+                                       environment=args.environment)
     for s in shaders:
         paths = s.write(args.output)
         if args.verbose:
@@ -32,7 +34,7 @@ def cmd_generate(args):
 def cmd_render(args):
     from . import pipeline, render
     shaders = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
-                                usd_seed_rules=args.usd_seed_rules)
+                                usd_seed_rules=args.usd_seed_rules, environment=args.environment)
     env = render.load_environment(args.env) if args.env else None
     from .lights import load_light_rig
     lights = load_light_rig(args.lights) if args.lights else ()
@@ -184,6 +186,10 @@ def build_parser():
                        help="USD preview nodes follow the UsdPreviewSurface seed's rules rather than MaterialX's "
                             "nodegraphs (default: on for documents from USD: USD's preview nodes in USD's own "
                             "vocabulary, e.g. a `result` output or `sourceColorSpace`)")
+        p.add_argument("--environment", choices=ENVIRONMENT_METHODS, default="fis",
+                       help="how environment light is integrated: fis = filtered importance sampling with "
+                            "u_envRadianceSamples samples (default), prefiltered = one lookup in the mip chain "
+                            "per lobe at a roughness-chosen level (split sum; faster, blurrier)")
 
     p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
     common(p)

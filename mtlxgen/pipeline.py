@@ -18,8 +18,9 @@ class Session:
     """A document opened for generation: the libraries with the document's own definitions, the
     elements to draw, and whether USD's seed rules apply. Build its elements with graph() / shader()."""
 
-    def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None):
+    def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None, environment="fis"):
         self.path = path
+        self.environment = environment
         self.doc = load_document(path, library_dirs)
         self.library = library.load_library(library_dirs).overlay(self.doc)   # once per document
         self.elements = list(elements or graph.renderable_elements(self.doc))
@@ -34,19 +35,20 @@ class Session:
         return graph.build_graph(self.doc, self.library, name, usd_seed_rules=self.usd_seed_rules)
 
     def shader(self, name):
-        return emit.emit(self.graph(name))
+        return emit.emit(self.graph(name), environment=self.environment)
 
 
-def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None):
+def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis"):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
 
     usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
     rather than MaterialX's nodegraphs; None (the default) turns them on for documents from USD.
+    environment: "fis" (filtered importance sampling) or "prefiltered" (emit.ENVIRONMENT_METHODS).
 
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
-    session = Session(path, elements, library_dirs, usd_seed_rules)
+    session = Session(path, elements, library_dirs, usd_seed_rules, environment)
     problems, shaders = Problems(), []
     for name in session.elements:
         try:

@@ -20,6 +20,11 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
     vec3 Vt = V * frame;
     Vt.z = max(Vt.z, 1.0e-4);
     Vt = normalize(Vt);
+#ifdef MG_ENV_PREFILTERED
+    // split sum (Karis 2013): the mirror direction at a roughness-chosen mip level
+    vec3 R = frame * vec3(-Vt.xy, Vt.z);
+    return mg_env_radiance(R, max(mg_epbr_env_lod(R, 1.0 / (4.0 * MG_PI * max(alpha.x * alpha.y, 1.0e-7)), 1) - 1.0, 0.0));
+#else
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 sum = vec3(0.0);
@@ -39,6 +44,7 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
     if (wsum <= 0.0)
         return mg_env_radiance(frame * vec3(-Vt.xy, Vt.z), 0.0);
     return sum / wsum;
+#endif
 }
 
 // Mean radiance over a GGX lobe about the direction D (a view straight down the lobe's own axis).

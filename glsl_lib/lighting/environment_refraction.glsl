@@ -2,9 +2,6 @@
 #ifndef MG_REFRACTION_ALPHA_SCALE
 #define MG_REFRACTION_ALPHA_SCALE 0.5
 #endif
-#ifndef MG_REFRACTION_LOD
-#define MG_REFRACTION_LOD(a) (sqrt(sqrt(a.x * a.y)) * float(u_envRadianceMips - 1))
-#endif
 // Environment seen through a transmitting surface, modelled as a solid sphere of the given IOR: the view
 // ray refracts in at the shading normal (Snell's law), crosses the sphere along a chord and refracts out
 // at the exit normal; read at a mip level that widens with roughness (a prefiltered stand-in for the
@@ -24,7 +21,7 @@ vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha)
 {
     vec3 T = mg_refraction_solid_sphere(-V, N, ior);
 #ifdef MG_REFRACTION_PREFILTERED
-    return mg_env_radiance(T, MG_REFRACTION_LOD(alpha));
+    return mg_env_radiance(T, mg_env_lod_prefiltered(T, alpha * MG_REFRACTION_ALPHA_SCALE));
 #else
     // the GGX lobe about T, by the reflection sampler with the normal turned away from the viewer
     mat3 frame = mg_tangent_frame(-N, Tg);

@@ -19,6 +19,26 @@ float mg_env_lod(vec3 dir, float pdf, int n)
     return clamp(0.5 * log2(omega_s / omega_p) + MG_ENV_LOD_BIAS, 0.0, float(u_envRadianceMips - 1));
 }
 
+// Mip level for the split-sum lookup: the level whose texels cover the lobe's solid angle, taken as the
+// inverse of its peak density 1 / (4 pi ax ay) (the GGX reflection pdf at h = n, seen head-on); no bias.
+float mg_env_lod_prefiltered(vec3 dir, vec2 alpha)
+{
+    return max(mg_env_lod(dir, 1.0 / (4.0 * MG_PI * max(alpha.x * alpha.y, 1.0e-7)), 1) - MG_ENV_LOD_BIAS, 0.0);
+}
+
+// The lobe's albedo for the split sum: the Schlick-split albedo, plus the node's own Fresnel curve's
+// departure from its Schlick endpoints at the view angle (exact for a mirror; conductors, F82 and films
+// bend away from Schlick's curve).
+vec3 mg_ggx_albedo_at_view(float mu, vec2 alpha, MgFresnel fr)
+{
+    vec3 E = mg_ggx_albedo(mu, alpha, fr);
+    if (fr.film_thickness > 0.0 && fr.model != MG_FRESNEL_DIELECTRIC)
+        return E;                               // already the film's curve times the lobe's total albedo
+    vec2 ab = mg_ggx_albedo_split(mu, alpha);
+    vec3 schlick = mix(fr.F0, fr.F90, pow(1.0 - mu, 5.0));
+    return max(E + (mg_fresnel_eval(fr, mu) - schlick) * (ab.x + ab.y), 0.0);
+}
+
 // Mirror of a direction about the normal (retroreflection exchanges it for the incident one).
 vec3 mg_retro(vec3 Lt)
 {
@@ -35,8 +55,8 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
     vec3 Lt = reflect(-Vt, vec3(0.0, 0.0, 1.0));
     if (retro)
         Lt = mg_retro(Lt);
-    float lod = sqrt(sqrt(alpha.x * alpha.y)) * float(u_envRadianceMips - 1);
-    return mg_env_radiance(frame * Lt, lod) * mg_ggx_albedo(Vt.z, alpha, fr);
+    vec3 L = frame * Lt;
+    return mg_env_radiance(L, mg_env_lod_prefiltered(L, alpha)) * mg_ggx_albedo_at_view(Vt.z, alpha, fr);
 #else
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
