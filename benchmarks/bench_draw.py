@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draw time of our shaders over MaterialX's, for the same elements in the same harness and run.
 
-usage: bench_draw.py [FILE.mtlx ...] [--repeat N] [--size N] [--backend egl]
+usage: bench_draw.py [FILE.mtlx ...] [--repeat N] [--size N] [--environment fis|prefiltered] [--skip PATTERN]
 Default files: the corpus Examples (StandardSurface, OpenPbr, GltfPbr, UsdPreviewSurface, ...).
 Each element is drawn --repeat times per shader (after one warm-up draw); the median draw time of
 each is kept and the totals' ratio printed. On machines without a GPU this measures Mesa's llvmpipe;
@@ -39,6 +39,10 @@ def main():
     ap.add_argument("files", nargs="*")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--environment", choices=("fis", "prefiltered"), default="fis",
+                    help="our environment method (MaterialX's is always its default, FIS)")
+    ap.add_argument("--skip", action="append", default=[], metavar="PATTERN",
+                    help="skip files whose path contains PATTERN (e.g. chess_set: seconds per draw on llvmpipe)")
     args = ap.parse_args()
     ref = MaterialXReference([CORPUS])
     ours_total = theirs_total = 0.0
@@ -46,6 +50,8 @@ def main():
     with Renderer(size=args.size) as r:
         print("renderer: %s" % r.ctx.info.get("GL_RENDERER", "?"))
         for path in [os.path.abspath(f) for f in (args.files or DEFAULT)]:
+            if any(p in path for p in args.skip):
+                continue
             try:
                 elements = ref.elements(path)
             except Exception:
@@ -53,7 +59,7 @@ def main():
             for element in elements:
                 try:
                     vs, fs, tex, _ = ref.generate(path, element)
-                    shader = pipeline.generate(path, [element])[0]
+                    shader = pipeline.generate(path, [element], environment=args.environment)[0]
                     theirs = timed_draws(r, vs, fs, {}, tex, args.repeat)
                     ours = timed_draws(r, shader.vertex, shader.fragment, shader.manifest, None, args.repeat)
                 except (MtlxError, Exception) as e:

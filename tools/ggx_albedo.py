@@ -6,9 +6,9 @@ split over the Schlick Fresnel weights: E = F0 * A(mu, alpha) + F90 * B(mu, alph
 A = int (1 - (1 - v.h)^5) f cos, B = int (1 - v.h)^5 f cos (f without Fresnel). Integrated by
 importance-sampling visible normals (Heitz 2018) on a stratified grid: the estimator is F G2 / G1(v).
 
-Writes glsl_lib/pbrlib/microfacet/albedo_table.glsl (the table, bilinear lookup) and
-glsl_lib/pbrlib/microfacet/albedo_fit.glsl (a least-squares polynomial fit of the same data).
-usage: tools/ggx_albedo.py [--check]
+Writes glsl_lib/pbrlib/microfacet/albedo_fit.glsl, a least-squares polynomial fit of the table (the
+table itself is checked against Monte Carlo in tests/test_pbr_microfacet.py; shaders carry only the fit).
+usage: tools/ggx_albedo.py
 """
 import os
 import sys
@@ -113,25 +113,6 @@ def glsl_poly(coef, names):
 
 
 def write(tab, coef, names, err):
-    rows = []
-    for a in range(N):
-        rows.append("    " + ", ".join("vec2(%.5f, %.5f)" % tuple(tab[a, m]) for m in range(N)))
-    with open(os.path.join(OUT, "albedo_table.glsl"), "w") as f:
-        f.write("// Directional albedo of GGX reflection with height-correlated Smith G2 (Heitz 2014), split\n"
-                "// over Schlick weights (F0 term, F90 term): %dx%d table over roughness alpha (rows) and mu = n.v,\n"
-                "// cell centres, computed by tools/ggx_albedo.py (numpy, %d VNDF samples an entry). Generated.\n"
-                % (N, N, STRATA * STRATA))
-        f.write("const vec2 MG_GGX_ALBEDO[%d] = vec2[%d](\n%s);\n\n" % (N * N, N * N, ",\n".join(rows)))
-        f.write("vec2 mg_ggx_albedo_table_at(int a, int m)\n{\n"
-                "    return MG_GGX_ALBEDO[clamp(a, 0, %d) * %d + clamp(m, 0, %d)];\n}\n\n" % (N - 1, N, N - 1))
-        f.write("// (A, B) at view cosine mu and roughness alpha, bilinear between cell centres.\n"
-                "vec2 mg_ggx_albedo_table(float mu, float alpha)\n{\n"
-                "    vec2 p = clamp(vec2(mu, alpha), 0.0, 1.0) * %d.0 - 0.5;\n"
-                "    vec2 i = floor(p);\n    vec2 t = p - i;\n"
-                "    int m = int(i.x), a = int(i.y);\n"
-                "    vec2 lo = mix(mg_ggx_albedo_table_at(a, m), mg_ggx_albedo_table_at(a, m + 1), t.x);\n"
-                "    vec2 hi = mix(mg_ggx_albedo_table_at(a + 1, m), mg_ggx_albedo_table_at(a + 1, m + 1), t.x);\n"
-                "    return mix(lo, hi, t.y);\n}\n" % N)
     with open(os.path.join(OUT, "albedo_fit.glsl"), "w") as f:
         f.write("// Directional albedo of GGX reflection with height-correlated Smith G2 (Heitz 2014), split over\n"
                 "// Schlick weights: the mirror limit plus a least-squares polynomial in x = 1 - sqrt(mu), y = sqrt(alpha)\n"
@@ -150,7 +131,7 @@ def main():
     tab = table()
     coef, names, err = fit(tab)
     write(tab, coef, names, err)
-    print("table %dx%d written; fit max error %.4f" % (N, N, err))
+    print("table %dx%d integrated; fit written, max error %.4f" % (N, N, err))
 
 
 if __name__ == "__main__":

@@ -1,16 +1,11 @@
-// requires: pbrlib/microfacet/albedo_fit.glsl pbrlib/microfacet/albedo_table.glsl pbrlib/microfacet/fresnel_model.glsl
-// Directional albedo of the GGX reflection lobe and its energy compensation. The analytic fit is the
-// default; define MG_GGX_ALBEDO_TABLE to read the numerically integrated table instead.
+// requires: pbrlib/microfacet/albedo_fit.glsl pbrlib/microfacet/fresnel_model.glsl
+// Directional albedo of the GGX reflection lobe and its energy compensation, by the analytic fit of the
+// table tools/ggx_albedo.py integrates with numpy (the table itself stays out of shaders: 25 kB of text).
 
 // (A, B): the lobe's albedo is F0 * A + F90 * B.
 vec2 mg_ggx_albedo_split(float mu, vec2 alpha)
 {
-    float a = sqrt(alpha.x * alpha.y);
-#ifdef MG_GGX_ALBEDO_TABLE
-    return mg_ggx_albedo_table(mu, a);
-#else
-    return mg_ggx_albedo_fit(mu, a);
-#endif
+    return mg_ggx_albedo_fit(mu, sqrt(alpha.x * alpha.y));
 }
 
 // Albedo of the single-scattering lobe with the node's Fresnel curve (its Schlick endpoints). A thin film
