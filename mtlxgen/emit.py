@@ -193,11 +193,19 @@ class Emitter:
                 self.fail(node, "string input '%s' cannot be used as a GLSL value" % f)
             if src.type in CLOSURE_TYPES and src.node in self.closure_nodes:
                 return self.closure(src, self.context or "indirect")
+            if f == "normal" and src.type == "vector3" and self.context in self.FACING_CONTEXTS \
+                    and "BSDF" in node.outputs.values():
+                # a BSDF shades with its normal turned towards the viewer: a normal-mapped or authored
+                # normal facing away would light the surface from behind (as MaterialX's BSDFs do)
+                self.require("pbrlib/forward_facing.glsl")
+                return "mg_forward_facing(%s, mg_V)" % self.expr(src)
             return self.expr(src)
         self.fail(node, "implementation template names '%s', which is not an input" % f)
 
     # ---------- nodes ----------
     # ---------- closures ----------
+    FACING_CONTEXTS = ("reflection", "indirect", "transmission")
+
     def line(self, text):
         """Append a statement to main at the current block depth."""
         self.body.append("    " * self.indent + text)

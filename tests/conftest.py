@@ -29,6 +29,21 @@ def reference():
 
 
 @pytest.fixture(scope="session")
+def cms_reference():
+    """MaterialX's GenGlsl with its colour management on (sRGB files converted as the spec says)."""
+    from mtlxgen.reference import MaterialXReference
+    return MaterialXReference([CORPUS], color_management=True)
+
+
+@pytest.fixture(scope="session")
+def harness():
+    """The scoreboard's own render harness (../shared/tools/mxharness.py), at the tests' size."""
+    sys.path.insert(0, os.path.join(ROOT, "..", "shared", "tools"))
+    import mxharness
+    return mxharness.Harness(size=TEST_SIZE)
+
+
+@pytest.fixture(scope="session")
 def library():
     from mtlxgen.library import load_library
     return load_library()

@@ -1,5 +1,5 @@
 """EDFs and VDFs MaterialX does not generate (mtlxgen/nodes/pbrlib_edf_vdf.py, mtlxgen/ies.py):
-IES parsing, conical falloff and Beer–Lambert absorption checked by rendering."""
+IES parsing, conical falloff and Beer–Lambert absorption (over the u_vdfThickness path) checked by rendering."""
 import os
 import subprocess
 import sys
@@ -163,12 +163,22 @@ def test_absorption_vdf_attenuates_transmission_by_beer_lambert(renderer, tmp_pa
     sigma = np.array([0.1, 0.5, 1.2])
     clear, _ = _render(renderer, _GLASS % "0, 0, 0", "s", "clear.mtlx", tmp_path)
     tinted, _ = _render(renderer, _GLASS % ", ".join(map(str, sigma)), "s", "tinted.mtlx", tmp_path)
-    hit, N, V = _sphere_geometry()
-    d = 2.0 * np.sum(N * V, -1)                                   # the chord through the unit sphere
-    centre = (slice(56, 72), slice(56, 72))
-    ratio = tinted[centre][..., :3] / np.maximum(clear[centre][..., :3], 1e-6)
-    expected = np.exp(-sigma[None, None, :] * d[centre][..., None])
-    assert np.allclose(ratio, expected, rtol=0.02), (ratio.mean((0, 1)), expected.mean((0, 1)))
+    # over the default path length of one scene unit, everywhere on the surface (centre and rim alike)
+    inside = (clear[..., 3] > 0.99) & (clear[..., :3].min(-1) > 0.02)
+    ratio = tinted[inside][:, :3] / clear[inside][:, :3]
+    assert np.allclose(ratio, np.exp(-sigma)[None, :], rtol=0.02), ratio.mean(0)
+
+
+def test_vdf_path_length_is_the_thickness_uniform(renderer, tmp_path):
+    sigma = np.array([0.1, 0.5, 1.2])
+    clear, _ = _render(renderer, _GLASS % "0, 0, 0", "s", "clear.mtlx", tmp_path)
+    tinted, shader = _render(renderer, _GLASS % ", ".join(map(str, sigma)), "s", "tinted.mtlx", tmp_path)
+    decl = "uniform float u_vdfThickness = 1.0;"
+    assert decl in shader.fragment                                # public: an application sets the thickness
+    thick = renderer.render((shader.vertex, shader.fragment.replace(decl, decl.replace("1.0", "2.5"))))
+    inside = (clear[..., 3] > 0.99) & (clear[..., :3].min(-1) > 0.02)
+    ratio = thick[inside][:, :3] / clear[inside][:, :3]
+    assert np.allclose(ratio, np.exp(-2.5 * sigma)[None, :], rtol=0.02), ratio.mean(0)
 
 
 def test_vdf_leaves_reflection_alone(renderer, tmp_path):
@@ -211,8 +221,8 @@ def test_volume_mix_add_multiply_and_shader_mixes_generate_and_render(renderer, 
   <surfacematerial name="disp" type="material"><input name="surfaceshader" type="surfaceshader" nodename="u" /><input name="displacementshader" type="displacementshader" nodename="dm" /></surfacematerial>"""
     vol, shader = _render(renderer, body, "vol", "vol.mtlx", tmp_path)
     assert "mg_absorption_vdf" in shader.fragment and "mg_mix_volumeshader" in shader.fragment
-    # the volume's transparency: mix of the two transmittances along the centre chord (d = 2)
-    v2 = np.exp(-2 * np.array([1, 0.5, 0.2]))
+    # the volume's transparency: mix of the two transmittances over the unit path length
+    v2 = np.exp(-np.array([1, 0.5, 0.2]))
     assert abs(vol[64, 64, 3] - (1 - 0.5 * (v2.mean() + _v1_transparency().mean()))) < 0.01
     disp, shader = _render(renderer, body, "disp", "disp.mtlx", tmp_path)
     assert "mg_mix_displacementshader" in shader.vertex
@@ -224,9 +234,9 @@ def test_volume_mix_add_multiply_and_shader_mixes_generate_and_render(renderer, 
 
 
 def _v1_transparency():
-    """Throughput of k = multiply(add(mix(a, b, 0.3), a), ...) on the centre chord (d = 2)."""
-    a = np.exp(-2 * np.array([1, 0.5, 0.2]))
-    b = np.exp(-2 * np.array([0.5, 0.5, 0.5]))
+    """Throughput of k = multiply(add(mix(a, b, 0.3), a), ...) over the unit path length."""
+    a = np.exp(-np.array([1, 0.5, 0.2]))
+    b = np.exp(-np.array([0.5, 0.5, 0.5]))
     m = 0.3 * a + 0.7 * b
     return m * a                                                   # add multiplies throughputs; multiply keeps them
 

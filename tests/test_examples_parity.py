@@ -4,40 +4,16 @@ geomprop reads the geometry whatever value is authored (gltf_pbr), USD documents
 provenance keep MaterialX's graph (UsdPreviewSurface glass), thin-film iridescence per polarization on
 dielectrics and conductors (OpenPBR Pearl, Soap_Bubble), and transmission at IOR 1 under a film."""
 import os
-import sys
 
 import numpy as np
 import pytest
 
-from mtlxgen import compare, pipeline
-from util import save_side_by_side, write_doc
+from mtlxgen import pipeline
+from mtlxgen.diagnostics import MtlxError
+from util import assert_harness_parity as assert_parity, harness_render_ours as _ours, write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "..", "shared", "tools"))
 EXAMPLES = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "Examples")
-
-
-@pytest.fixture(scope="module")
-def harness():
-    import mxharness
-    return mxharness.Harness(size=128)
-
-
-def _ours(harness, path, element):
-    shader = pipeline.generate(path, [element])[0]
-    img, _ = harness.render(shader.vertex, shader.fragment,
-                            {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
-    return img
-
-
-def assert_parity(harness, reference, path, element):
-    ours = _ours(harness, path, element)
-    vs, fs, tex, _ = reference.generate(path, element)
-    theirs, _ = harness.render(vs, fs, tex)
-    p = compare.parity(ours, theirs)
-    if not p.passes:
-        where = save_side_by_side(os.path.basename(path) + "_" + element.replace("/", "_"), ours, theirs)
-        raise AssertionError("%s: %s (side by side: %s)" % (element, p, where))
 
 
 @pytest.mark.parametrize("file, element", [
@@ -51,6 +27,35 @@ def assert_parity(harness, reference, path, element):
 ])
 def test_example_matches_materialx(harness, reference, file, element):
     assert_parity(harness, reference, os.path.join(EXAMPLES, file), element)
+
+
+# Every element of MaterialX's Examples is at parity except the differences listed, with their reasons and
+# images, in docs/differences/README.md. The chess set is left out for time (seconds per draw on llvmpipe).
+DIFFERENCES = {"open_pbr_honey.mtlx", "standard_surface_onyx_hextiled.mtlx"}
+# sRGB-encoded texture files: compared with MaterialX's colour management on (the scoreboard's reference has
+# none and reads the files raw; see docs/differences).
+COLOR_MANAGED = {"standard_surface_greysphere_calibration.mtlx", "standard_surface_wood_tiled.mtlx",
+                 "standard_surface_look_wood_tiled.mtlx"}
+
+
+def _all_examples():
+    import glob
+    for path in sorted(glob.glob(os.path.join(EXAMPLES, "*", "*.mtlx"))):
+        name = os.path.basename(path)
+        if "chess_set" in name or name in DIFFERENCES:
+            continue
+        try:
+            elements = pipeline.Session(path).elements
+        except MtlxError:       # look_brass_tiled includes a file the corpus lacks (MaterialX cannot read it either)
+            continue
+        for element in elements:
+            yield pytest.param(path, element, id="%s:%s" % (name, element))
+
+
+@pytest.mark.parametrize("path, element", list(_all_examples()))
+def test_every_example_at_parity(harness, reference, cms_reference, path, element):
+    cms = os.path.basename(path) in COLOR_MANAGED
+    assert_parity(harness, cms_reference if cms else reference, path, element)
 
 
 def test_zero_weight_sheen_is_not_nan(harness):

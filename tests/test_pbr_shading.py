@@ -94,3 +94,52 @@ def test_closure_lobes_are_evaluated_only_where_their_mix_factor_lets_them_matte
 @pytest.mark.parametrize("factor", [0.0, 0.3, 1.0, 1.5, -0.5])     # mix extrapolates outside [0, 1]
 def test_guarded_lobes_render_as_unguarded_ones(tmp_path, renderer, reference, factor):
     assert_parity_with_materialx(renderer, reference, write_doc(tmp_path, MIXED % factor), "surf")
+
+
+THROUGH = """
+  <dielectric_bsdf name="glass" type="BSDF">
+    <input name="ior" type="float" value="%s" />
+    <input name="roughness" type="vector2" value="0, 0" />
+    <input name="scatter_mode" type="string" value="T" />
+  </dielectric_bsdf>
+  <surface name="surf" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="glass" />
+    <input name="thin_walled" type="boolean" value="%s" /></surface>"""
+
+
+def test_thin_walled_surface_is_seen_straight_through(tmp_path):
+    # a thin-walled surface is a shell (MaterialX Specification 1.39 surface; OpenPBR: no refraction): the
+    # environment behind it is seen undeflected, as through an interface of IOR 1, only dimmed by the Fresnel
+    # reflection (grey for a dielectric); a solid sphere of IOR 1.5 refracts (and mirrors) it
+    from mtlxgen.render import Renderer
+    v, u = np.mgrid[0:64, 0:128]
+    env = np.stack([(u + 0.5) / 128, (v + 0.5) / 64, np.full(u.shape, 0.5)], -1).astype(np.float32)
+
+    def draw(ior, thin):
+        path = write_doc(tmp_path, THROUGH % (ior, thin), name="glass_%s_%s.mtlx" % (ior, thin))
+        with Renderer(size=64, environment=env) as r:
+            return r.render(pipeline.generate(path)[0])
+
+    def chroma(img):
+        rgb = img[..., :3].astype(np.float64)
+        return rgb / np.maximum(rgb.sum(-1, keepdims=True), 1e-6)
+
+    air, thin, solid = draw(1.0, "false"), draw(1.5, "true"), draw(1.5, "false")
+    inner = (air[..., 3] > 0.99) & (thin[..., 3] > 0.99)
+    inner &= np.roll(inner, 3, 0) & np.roll(inner, -3, 0) & np.roll(inner, 3, 1) & np.roll(inner, -3, 1)
+    assert inner.sum() > 1000
+    assert np.abs(chroma(thin) - chroma(air))[inner].max() < 0.01
+    assert (thin[..., :3].sum(-1) < air[..., :3].sum(-1))[inner].mean() > 0.99      # the interface reflects some
+    assert np.abs(chroma(solid) - chroma(air))[inner].max() > 0.05
+
+
+def test_open_pbr_thin_walled_reaches_the_surface(tmp_path):
+    body = """
+  <open_pbr_surface name="s" type="surfaceshader">
+    <input name="transmission_weight" type="float" value="1" />
+    <input name="geometry_thin_walled" type="boolean" value="%s" />
+  </open_pbr_surface>"""
+    for flag in ("true", "false"):
+        frag = pipeline.generate(write_doc(tmp_path, body % flag, name=flag + ".mtlx"))[0].fragment
+        # the public uniform of the material's input decides the surface's transmission
+        assert "uniform bool s_geometry_thin_walled = %s;" % flag in frag
+        assert "bool mg_thin_walled = s_geometry_thin_walled;" in frag

@@ -42,3 +42,24 @@ def assert_parity_with_materialx(renderer, reference, path, element):
         where = save_side_by_side(os.path.basename(path) + "_" + element, ours, theirs)
         raise AssertionError("%s %s: %s (side by side: %s)" % (os.path.basename(path), element, p, where))
     return p
+
+
+def harness_render_ours(harness, path, element):
+    """Our shader for one element drawn by the scoreboard's harness (../shared/tools/mxharness.py)."""
+    harness.ctx.__enter__()   # the harness's GL context current again: the tests' Renderers make theirs current
+    shader = pipeline.generate(path, [element])[0]
+    img, _ = harness.render(shader.vertex, shader.fragment,
+                            {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
+    return img
+
+
+def assert_harness_parity(harness, reference, path, element):
+    """Ours and MaterialX's for one element, both drawn by the scoreboard's harness, at parity."""
+    ours = harness_render_ours(harness, path, element)
+    vs, fs, tex, _ = reference.generate(path, element)
+    harness.ctx.__enter__()
+    theirs, _ = harness.render(vs, fs, tex)
+    p = compare.parity(ours, theirs)
+    if not p.passes:
+        where = save_side_by_side(os.path.basename(path) + "_" + element.replace("/", "_"), ours, theirs)
+        raise AssertionError("%s: %s (side by side: %s)" % (element, p, where))

@@ -21,7 +21,9 @@ vec3 mg_env_radiance(vec3 dir, float lod)
 }
 
 // Cosine-weighted irradiance over the hemisphere about n, divided by pi (the diffuse reflectance's scale).
+// Read at level 0: the map is already band-limited, and screen derivatives of n (normal maps, the
+// lat-long seam) would otherwise pick blurred mips of a mipmapped map.
 vec3 mg_env_irradiance(vec3 n)
 {
-    return texture(u_envIrradiance, mg_latlong_uv(n)).rgb * u_envLightIntensity;
+    return textureLod(u_envIrradiance, mg_latlong_uv(n), 0.0).rgb * u_envLightIntensity;
 }

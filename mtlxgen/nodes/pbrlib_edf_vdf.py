@@ -6,7 +6,7 @@ mix_displacementshader are stdlib_compositing's.)
 
 An EDF is evaluated in the "emission" context, where mg_V points from the surface to the viewer.
 A VDF matters only in the "transmission" context (what is seen through a surface): there it is the
-Beer–Lambert transmittance over a thickness approximation (glsl_lib/pbrlib/vdf/absorption.glsl) and
+Beer–Lambert transmittance over a fixed path length (glsl_lib/pbrlib/vdf/absorption.glsl) and
 what the medium scatters towards the eye; in every other context it is the empty VDF, so layering a
 BSDF over it changes only transmission.
 measured_edf's `file` is a texture like an image's: the manifest's texture entry names the .ies file
@@ -49,7 +49,7 @@ NODES = {
         "closure": {"emission": "mg_measured_edf({{file}}, mg_V, {{color}}, {{normal}})"},
         "files": [_EDF + "measured.glsl"]},
     "absorption_vdf": {
-        "closure": {"transmission": "mg_absorption_vdf({{absorption}}, {{@normal_world}}, mg_V)"},
+        "closure": {"transmission": "mg_absorption_vdf({{absorption}})"},
         "files": [_VDF + "absorption.glsl"]},
     "anisotropic_vdf": {
         "closure": {"transmission": "mg_anisotropic_vdf({{absorption}}, {{scattering}}, {{anisotropy}}, "

@@ -3,7 +3,7 @@ generalized_schlick_bsdf, over anisotropic GGX with height-correlated Smith shad
 
 Each is evaluated per closure context (see pbrlib_shading): "reflection" per direct light, "indirect"
 for the environment (filtered importance sampling, glsl_lib/lighting/environment_specular.glsl) and
-"transmission" for what is seen through (environment refraction). scatter_mode picks R, T or RT
+"transmission" for what is seen through (environment refraction; straight through a thin-walled surface). scatter_mode picks R, T or RT
 through the constants of glsl_lib/pbrlib/microfacet/scatter_mode.glsl.
 """
 
@@ -20,7 +20,7 @@ NODES = {
         "closure": {
             "reflection": "mg_dielectric_reflection(mg_L, mg_V, %s, {{=retroreflective}}, %s, %s, %s)" % (_DIELECTRIC, _FILM, _FRAME, _MODE),
             "indirect": "mg_dielectric_indirect(mg_V, %s, {{=retroreflective}}, %s, %s, %s)" % (_DIELECTRIC, _FILM, _FRAME, _MODE),
-            "transmission": "mg_dielectric_transmission(mg_V, %s, %s, %s, %s)" % (_DIELECTRIC, _FILM, _FRAME, _MODE),
+            "transmission": "mg_dielectric_transmission(mg_V, %s, %s, %s, %s, mg_thin_walled)" % (_DIELECTRIC, _FILM, _FRAME, _MODE),
         },
         "files": ["pbrlib/microfacet/dielectric.glsl"]},
     "conductor_bsdf": {
@@ -34,7 +34,7 @@ NODES = {
         "closure": {
             "reflection": "mg_schlick_reflection(mg_L, mg_V, %s, {{=retroreflective}}, %s, %s, %s)" % (_SCHLICK, _FILM, _FRAME, _MODE),
             "indirect": "mg_schlick_indirect(mg_V, %s, {{=retroreflective}}, %s, %s, %s)" % (_SCHLICK, _FILM, _FRAME, _MODE),
-            "transmission": "mg_schlick_transmission(mg_V, %s, %s, %s, %s)" % (_SCHLICK, _FILM, _FRAME, _MODE),
+            "transmission": "mg_schlick_transmission(mg_V, %s, %s, %s, %s, mg_thin_walled)" % (_SCHLICK, _FILM, _FRAME, _MODE),
         },
         "files": ["pbrlib/microfacet/generalized_schlick.glsl"]},
 }

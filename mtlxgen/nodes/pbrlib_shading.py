@@ -4,13 +4,14 @@ closure-combining nodes.
 A surface evaluates its BSDF graph once per context: "reflection" for each direct light (mg_L is the
 direction to the light), "indirect" for the environment, "transmission" for what is seen through
 it, and its EDF in "emission". Closure templates may read the block's mg_L, mg_V, mg_P and
-mg_occlusion. Opacity scales the colour and blends the transparency towards 1.
+mg_occlusion, and in "transmission" mg_thin_walled (the surface is a thin shell: what is seen through it
+is not bent by a solid interior). Opacity scales the colour and blends the transparency towards 1.
 """
 
 LIGHTING_FILES = ["closures.glsl", "lighting/environment.glsl", "lighting/lights.glsl"]
 
 
-def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface"):
+def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface", thin_walled="false"):
     """Emit the lighting of a BSDF and/or EDF Source; returns the surfaceshader variable."""
     for f in LIGHTING_FILES:
         em.require(f)
@@ -33,6 +34,7 @@ def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface"):
         em.line("%s.color += mg_occlusion * %s.response;" % (out, em.closure(bsdf, "indirect")))
         em.close_block()
         em.open_block("transmission", "seen through the surface")
+        em.line("bool mg_thin_walled = %s;" % thin_walled)
         em.line("%s.color += %s.response;" % (out, em.closure(bsdf, "transmission")))
         em.close_block()
     if edf is not None and edf.linked:
@@ -47,7 +49,8 @@ def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface"):
 
 
 def surface(node, em):
-    out = shade(em, node.inputs["bsdf"], node.inputs["edf"], em.input_expr(node, "opacity"), node.id)
+    out = shade(em, node.inputs["bsdf"], node.inputs["edf"], em.input_expr(node, "opacity"), node.id,
+                em.input_expr(node, "thin_walled"))
     return {"out": out}
 
 

@@ -37,7 +37,7 @@ BSDF mg_dielectric_indirect(vec3 V, float weight, vec3 tint, float ior, vec2 rou
 }
 
 BSDF mg_dielectric_transmission(vec3 V, float weight, vec3 tint, float ior, vec2 roughness,
-                                float film_thickness, float film_ior, vec3 N, vec3 T, int mode)
+                                float film_thickness, float film_ior, vec3 N, vec3 T, int mode, bool thin_walled)
 {
     vec2 alpha = mg_ggx_alpha(roughness);
     MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
@@ -45,9 +45,10 @@ BSDF mg_dielectric_transmission(vec3 V, float weight, vec3 tint, float ior, vec2
     vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
     if (mode == mg_scatter_R)
         return BSDF(vec3(0.0), 1.0 - weight * E);
-    // what the interface transmits: 1 - the lobe's albedo with the exact dielectric curve at n.v (so that
-    // an interface of IOR 1 lets everything through, as MaterialX's does; the Schlick split's F90 = 1 would not)
-    vec3 through = max(1.0 - mg_fresnel_base(fr, NdotV) * dot(mg_ggx_albedo_split(NdotV, alpha), vec2(1.0))
+    // what the interface transmits: 1 - the lobe's albedo with the exact dielectric curve at n.v, through the
+    // thin film where there is one (so that an interface of IOR 1 lets everything through, as MaterialX's does;
+    // the Schlick split's F90 = 1 would not)
+    vec3 through = max(1.0 - mg_fresnel_eval(fr, NdotV) * dot(mg_ggx_albedo_split(NdotV, alpha), vec2(1.0))
                              * mg_ggx_energy_compensation(NdotV, alpha, fr.F0), 0.0);
-    return BSDF(mg_env_refraction(V, N, T, ior, alpha) * through * tint * weight, vec3(1.0 - weight));
+    return BSDF(mg_env_refraction(V, N, T, ior, alpha, thin_walled) * through * tint * weight, vec3(1.0 - weight));
 }

@@ -40,7 +40,8 @@ BSDF mg_schlick_indirect(vec3 V, float weight, vec3 color0, vec3 color82, vec3 c
 }
 
 BSDF mg_schlick_transmission(vec3 V, float weight, vec3 color0, vec3 color82, vec3 color90, float exponent,
-                             vec2 roughness, float film_thickness, float film_ior, vec3 N, vec3 T, int mode)
+                             vec2 roughness, float film_thickness, float film_ior, vec3 N, vec3 T, int mode,
+                             bool thin_walled)
 {
     vec2 alpha = mg_ggx_alpha(roughness);
     MgFresnel fr = mg_fresnel_schlick_model(color0, color82, color90, exponent, film_thickness, film_ior);
@@ -49,5 +50,5 @@ BSDF mg_schlick_transmission(vec3 V, float weight, vec3 color0, vec3 color82, ve
     if (mode == mg_scatter_R)
         return BSDF(vec3(0.0), vec3(1.0 - weight * dot(E, vec3(1.0 / 3.0))));
     vec3 through = 1.0 - E;
-    return BSDF(mg_env_refraction(V, N, T, mg_f0_to_ior(color0), alpha) * through * weight, vec3(1.0 - weight));
+    return BSDF(mg_env_refraction(V, N, T, mg_f0_to_ior(color0), alpha, thin_walled) * through * weight, vec3(1.0 - weight));
 }

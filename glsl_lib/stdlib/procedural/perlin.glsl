@@ -70,69 +70,44 @@ vec3 mg_trilerp(vec3 v0, vec3 v1, vec3 v2, vec3 v3, vec3 v4, vec3 v5, vec3 v6, v
 const float MG_PERLIN_SCALE_2D = 0.6616;
 const float MG_PERLIN_SCALE_3D = 0.9820;
 
-float mg_perlin(vec2 p)
-{
-    int X, Y;
-    float fx = mg_floorfrac(p.x, X);
-    float fy = mg_floorfrac(p.y, Y);
-    float n = mg_bilerp(
-        mg_grad(mg_hash(X, Y), fx, fy),
-        mg_grad(mg_hash(X + 1, Y), fx - 1.0, fy),
-        mg_grad(mg_hash(X, Y + 1), fx, fy - 1.0),
-        mg_grad(mg_hash(X + 1, Y + 1), fx - 1.0, fy - 1.0),
-        mg_fade(fx), mg_fade(fy));
-    return MG_PERLIN_SCALE_2D * n;
-}
+// One definition per dimension serves both results: R is float (one gradient per corner from the corner
+// hash) or vec3 (three decorrelated channels, each gradient from its own byte of the hash: HASH_OF).
+#define MG_HASH_ONE(h) (h)
+#define MG_PERLIN_2D(R, NAME, HASH_OF)                                                          \
+    R NAME(vec2 p)                                                                              \
+    {                                                                                           \
+        int X, Y;                                                                               \
+        float fx = mg_floorfrac(p.x, X);                                                        \
+        float fy = mg_floorfrac(p.y, Y);                                                        \
+        R n = mg_bilerp(                                                                        \
+            mg_grad(HASH_OF(mg_hash(X, Y)), fx, fy),                                            \
+            mg_grad(HASH_OF(mg_hash(X + 1, Y)), fx - 1.0, fy),                                  \
+            mg_grad(HASH_OF(mg_hash(X, Y + 1)), fx, fy - 1.0),                                  \
+            mg_grad(HASH_OF(mg_hash(X + 1, Y + 1)), fx - 1.0, fy - 1.0),                        \
+            mg_fade(fx), mg_fade(fy));                                                          \
+        return MG_PERLIN_SCALE_2D * n;                                                          \
+    }
+#define MG_PERLIN_3D(R, NAME, HASH_OF)                                                          \
+    R NAME(vec3 p)                                                                              \
+    {                                                                                           \
+        int X, Y, Z;                                                                            \
+        float fx = mg_floorfrac(p.x, X);                                                        \
+        float fy = mg_floorfrac(p.y, Y);                                                        \
+        float fz = mg_floorfrac(p.z, Z);                                                        \
+        R n = mg_trilerp(                                                                       \
+            mg_grad(HASH_OF(mg_hash(X, Y, Z)), fx, fy, fz),                                     \
+            mg_grad(HASH_OF(mg_hash(X + 1, Y, Z)), fx - 1.0, fy, fz),                           \
+            mg_grad(HASH_OF(mg_hash(X, Y + 1, Z)), fx, fy - 1.0, fz),                           \
+            mg_grad(HASH_OF(mg_hash(X + 1, Y + 1, Z)), fx - 1.0, fy - 1.0, fz),                 \
+            mg_grad(HASH_OF(mg_hash(X, Y, Z + 1)), fx, fy, fz - 1.0),                           \
+            mg_grad(HASH_OF(mg_hash(X + 1, Y, Z + 1)), fx - 1.0, fy, fz - 1.0),                 \
+            mg_grad(HASH_OF(mg_hash(X, Y + 1, Z + 1)), fx, fy - 1.0, fz - 1.0),                 \
+            mg_grad(HASH_OF(mg_hash(X + 1, Y + 1, Z + 1)), fx - 1.0, fy - 1.0, fz - 1.0),       \
+            mg_fade(fx), mg_fade(fy), mg_fade(fz));                                             \
+        return MG_PERLIN_SCALE_3D * n;                                                          \
+    }
 
-float mg_perlin(vec3 p)
-{
-    int X, Y, Z;
-    float fx = mg_floorfrac(p.x, X);
-    float fy = mg_floorfrac(p.y, Y);
-    float fz = mg_floorfrac(p.z, Z);
-    float n = mg_trilerp(
-        mg_grad(mg_hash(X, Y, Z), fx, fy, fz),
-        mg_grad(mg_hash(X + 1, Y, Z), fx - 1.0, fy, fz),
-        mg_grad(mg_hash(X, Y + 1, Z), fx, fy - 1.0, fz),
-        mg_grad(mg_hash(X + 1, Y + 1, Z), fx - 1.0, fy - 1.0, fz),
-        mg_grad(mg_hash(X, Y, Z + 1), fx, fy, fz - 1.0),
-        mg_grad(mg_hash(X + 1, Y, Z + 1), fx - 1.0, fy, fz - 1.0),
-        mg_grad(mg_hash(X, Y + 1, Z + 1), fx, fy - 1.0, fz - 1.0),
-        mg_grad(mg_hash(X + 1, Y + 1, Z + 1), fx - 1.0, fy - 1.0, fz - 1.0),
-        mg_fade(fx), mg_fade(fy), mg_fade(fz));
-    return MG_PERLIN_SCALE_3D * n;
-}
-
-// three decorrelated noise channels: each channel's gradient from its own byte of the corner hash
-vec3 mg_perlin_vec3(vec2 p)
-{
-    int X, Y;
-    float fx = mg_floorfrac(p.x, X);
-    float fy = mg_floorfrac(p.y, Y);
-    vec3 n = mg_bilerp(
-        mg_grad(mg_hash_bytes3(mg_hash(X, Y)), fx, fy),
-        mg_grad(mg_hash_bytes3(mg_hash(X + 1, Y)), fx - 1.0, fy),
-        mg_grad(mg_hash_bytes3(mg_hash(X, Y + 1)), fx, fy - 1.0),
-        mg_grad(mg_hash_bytes3(mg_hash(X + 1, Y + 1)), fx - 1.0, fy - 1.0),
-        mg_fade(fx), mg_fade(fy));
-    return MG_PERLIN_SCALE_2D * n;
-}
-
-vec3 mg_perlin_vec3(vec3 p)
-{
-    int X, Y, Z;
-    float fx = mg_floorfrac(p.x, X);
-    float fy = mg_floorfrac(p.y, Y);
-    float fz = mg_floorfrac(p.z, Z);
-    vec3 n = mg_trilerp(
-        mg_grad(mg_hash_bytes3(mg_hash(X, Y, Z)), fx, fy, fz),
-        mg_grad(mg_hash_bytes3(mg_hash(X + 1, Y, Z)), fx - 1.0, fy, fz),
-        mg_grad(mg_hash_bytes3(mg_hash(X, Y + 1, Z)), fx, fy - 1.0, fz),
-        mg_grad(mg_hash_bytes3(mg_hash(X + 1, Y + 1, Z)), fx - 1.0, fy - 1.0, fz),
-        mg_grad(mg_hash_bytes3(mg_hash(X, Y, Z + 1)), fx, fy, fz - 1.0),
-        mg_grad(mg_hash_bytes3(mg_hash(X + 1, Y, Z + 1)), fx - 1.0, fy, fz - 1.0),
-        mg_grad(mg_hash_bytes3(mg_hash(X, Y + 1, Z + 1)), fx, fy - 1.0, fz - 1.0),
-        mg_grad(mg_hash_bytes3(mg_hash(X + 1, Y + 1, Z + 1)), fx - 1.0, fy - 1.0, fz - 1.0),
-        mg_fade(fx), mg_fade(fy), mg_fade(fz));
-    return MG_PERLIN_SCALE_3D * n;
-}
+MG_PERLIN_2D(float, mg_perlin, MG_HASH_ONE)
+MG_PERLIN_3D(float, mg_perlin, MG_HASH_ONE)
+MG_PERLIN_2D(vec3, mg_perlin_vec3, mg_hash_bytes3)
+MG_PERLIN_3D(vec3, mg_perlin_vec3, mg_hash_bytes3)

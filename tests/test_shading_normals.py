@@ -1,0 +1,95 @@
+"""Shading normals and the environment's irradiance, at parity with MaterialX in the scoreboard's harness:
+a BSDF shades with its normal turned towards the viewer (a normal-mapped or authored normal facing away
+would light the surface from behind), and the irradiance map is read at level 0 (its mips, chosen from
+screen derivatives of the normal, blurred normal-mapped edges and the lat-long seam)."""
+import os
+import sys
+
+import pytest
+
+from mtlxgen import compare, pipeline
+from util import save_side_by_side, write_doc
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "..", "shared", "tools"))
+SURFACESHADER = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite",
+                             "pbrlib", "surfaceshader")
+
+
+@pytest.fixture(scope="module")
+def harness():
+    import mxharness
+    return mxharness.Harness()
+
+
+def _parity(harness, reference, path, element):
+    shader = pipeline.generate(path, [element])[0]
+    ours, _ = harness.render(shader.vertex, shader.fragment,
+                             {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
+    vs, fs, tex, _ = reference.generate(path, element)
+    theirs, _ = harness.render(vs, fs, tex)
+    return compare.parity(ours, theirs), ours, theirs
+
+
+def assert_parity(harness, reference, path, element):
+    p, ours, theirs = _parity(harness, reference, path, element)
+    if not p.passes:
+        where = save_side_by_side(os.path.basename(path) + "_" + element.replace("/", "_"), ours, theirs)
+        raise AssertionError("%s: %s (side by side: %s)" % (element, p, where))
+
+
+def _corpus_copy(tmp_path, name):
+    # the corpus's image paths are relative to the resources' parent: make them absolute
+    images = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Images")
+    with open(os.path.join(SURFACESHADER, name)) as f:
+        text = f.read().replace("resources/Images", os.path.abspath(images))
+    path = os.path.join(str(tmp_path), name)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def test_normal_mapped_wire_mesh_matches_materialx(harness, reference):
+    # tile edges of the wire mesh's normals turn away from the viewer near the silhouette
+    assert_parity(harness, reference, os.path.join(SURFACESHADER, "mapped_surfaceshader.mtlx"), "NormalMapMaterial")
+
+
+@pytest.mark.parametrize("specular", ["0", "1"])
+def test_normal_facing_away_is_turned_towards_the_viewer(harness, reference, tmp_path, specular):
+    # an authored world normal tilted by (1.5, 0.3, 0): it faces away from the camera on the right rim
+    body = """<standard_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" value="0.2, 0.5, 0.9" />
+    <input name="specular" type="float" value="%s" />
+    <input name="normal" type="vector3" nodegraph="G" />
+  </standard_surface>
+  <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+  <nodegraph name="G">
+    <normal name="n" type="vector3" />
+    <add name="a" type="vector3"><input name="in1" type="vector3" nodename="n" />
+      <input name="in2" type="vector3" value="1.5, 0.3, 0" /></add>
+    <normalize name="nz" type="vector3"><input name="in" type="vector3" nodename="a" /></normalize>
+    <output name="out" type="vector3" nodename="nz" />
+  </nodegraph>""" % specular
+    assert_parity(harness, reference, write_doc(tmp_path, body, name="away%s.mtlx" % specular), "M")
+
+
+def test_environment_irradiance_is_read_at_level_zero(tmp_path):
+    body = """<oren_nayar_diffuse_bsdf name="b" type="BSDF" />
+  <surface name="s" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="b" /></surface>
+  <output name="out" type="surfaceshader" nodename="s" />"""
+    frag = pipeline.generate(write_doc(tmp_path, body))[0].fragment
+    assert "textureLod(u_envIrradiance" in frag and "texture(u_envIrradiance" not in frag
+
+
+def test_unit_mapped_shader_differs_only_by_materialx_merging_same_named_nodes(harness, reference, tmp_path):
+    # UnitMappedShaderMaterial connects two nodegraphs whose ramp4 nodes share the name "ramp4";
+    # MaterialX's generator then reads YellowRamp's values for BlueRamp's output too. With the names made
+    # unique, both renders agree (docs/differences/README.md).
+    path = _corpus_copy(tmp_path, "mapped_surfaceshader.mtlx")
+    with open(path) as f:
+        text = f.read()
+    i = text.index('<nodegraph name="BlueRamp">')
+    j = text.index("</nodegraph>", i)
+    with open(path, "w") as f:
+        f.write(text[:i] + text[i:j].replace('"ramp4"', '"ramp4_blue"') + text[j:])
+    assert_parity(harness, reference, path, "UnitMappedShaderMaterial")
