@@ -16,19 +16,6 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "Examples")
 
 
-@pytest.mark.parametrize("file, element", [
-    ("GltfPbr/gltf_pbr_carpaint.mtlx", "PBR_Car_Paint"),
-    ("GltfPbr/gltf_pbr_default.mtlx", "Default"),
-    ("GltfPbr/gltf_pbr_glass.mtlx", "PBR_Glass"),
-    ("GltfPbr/gltf_pbr_plastic.mtlx", "PBR_Plastic"),
-    ("UsdPreviewSurface/usd_preview_surface_glass.mtlx", "USD_Glass"),
-    ("OpenPbr/open_pbr_pearl.mtlx", "Pearl"),
-    ("OpenPbr/open_pbr_soapbubble.mtlx", "Soap_Bubble"),
-])
-def test_example_matches_materialx(harness, reference, file, element):
-    assert_parity(harness, reference, os.path.join(EXAMPLES, file), element)
-
-
 # Every element of MaterialX's Examples is at parity except the differences listed, with their reasons and
 # images, in docs/differences/README.md. The chess set is left out for time (seconds per draw on llvmpipe).
 DIFFERENCES = {"open_pbr_honey.mtlx", "standard_surface_onyx_hextiled.mtlx"}

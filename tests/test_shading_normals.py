@@ -3,39 +3,15 @@ a BSDF shades with its normal turned towards the viewer (a normal-mapped or auth
 would light the surface from behind), and the irradiance map is read at level 0 (its mips, chosen from
 screen derivatives of the normal, blurred normal-mapped edges and the lat-long seam)."""
 import os
-import sys
 
 import pytest
 
-from mtlxgen import compare, pipeline
-from util import save_side_by_side, write_doc
+from mtlxgen import pipeline
+from util import assert_harness_parity as assert_parity, write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "..", "shared", "tools"))
 SURFACESHADER = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite",
                              "pbrlib", "surfaceshader")
-
-
-@pytest.fixture(scope="module")
-def harness():
-    import mxharness
-    return mxharness.Harness()
-
-
-def _parity(harness, reference, path, element):
-    shader = pipeline.generate(path, [element])[0]
-    ours, _ = harness.render(shader.vertex, shader.fragment,
-                             {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
-    vs, fs, tex, _ = reference.generate(path, element)
-    theirs, _ = harness.render(vs, fs, tex)
-    return compare.parity(ours, theirs), ours, theirs
-
-
-def assert_parity(harness, reference, path, element):
-    p, ours, theirs = _parity(harness, reference, path, element)
-    if not p.passes:
-        where = save_side_by_side(os.path.basename(path) + "_" + element.replace("/", "_"), ours, theirs)
-        raise AssertionError("%s: %s (side by side: %s)" % (element, p, where))
 
 
 def _corpus_copy(tmp_path, name):
@@ -49,9 +25,8 @@ def _corpus_copy(tmp_path, name):
     return path
 
 
-def test_normal_mapped_wire_mesh_matches_materialx(harness, reference):
-    # tile edges of the wire mesh's normals turn away from the viewer near the silhouette
-    assert_parity(harness, reference, os.path.join(SURFACESHADER, "mapped_surfaceshader.mtlx"), "NormalMapMaterial")
+# (mapped_surfaceshader.mtlx's NormalMapMaterial, whose wire-mesh tile edges turn away from the viewer near
+# the silhouette, is at parity in tests/test_pbrlib_suite_parity.py)
 
 
 @pytest.mark.parametrize("specular", ["0", "1"])
