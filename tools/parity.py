@@ -2,7 +2,8 @@
 """Developer tool: our render vs MaterialX's for elements of one document, in the scoreboard's own
 harness (../shared/tools/mxharness.py), with side-by-side images (ours | MaterialX | diff x8).
 
-usage: tools/parity.py FILE.mtlx [ELEMENT ...] [--out DIR]
+usage: tools/parity.py FILE.mtlx [ELEMENT ...] [--out DIR] [--color-management]
+--color-management turns MaterialX's colour-management system on (the scoreboard runs without one).
 """
 import argparse
 import os
@@ -24,9 +25,11 @@ def main():
     ap.add_argument("file")
     ap.add_argument("elements", nargs="*")
     ap.add_argument("--out", default="/tmp/parity")
+    ap.add_argument("--color-management", action="store_true")
     args = ap.parse_args()
     import mxharness
-    ref = MaterialXReference([os.path.join(ROOT, "..", "shared", "corpus", "materialx")])
+    ref = MaterialXReference([os.path.join(ROOT, "..", "shared", "corpus", "materialx")],
+                             color_management=args.color_management)
     harness = mxharness.Harness()
     path = os.path.abspath(args.file)
     os.makedirs(args.out, exist_ok=True)
