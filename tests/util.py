@@ -53,13 +53,34 @@ def harness_render_ours(harness, path, element):
     return img
 
 
-def assert_harness_parity(harness, reference, path, element):
-    """Ours and MaterialX's for one element, both drawn by the scoreboard's harness, at parity."""
-    ours = harness_render_ours(harness, path, element)
-    vs, fs, tex, _ = reference.generate(path, element)
-    harness.ctx.__enter__()
+def assert_harness_parity(harness, reference, path, element, theirs_shader=None):
+    """Ours and MaterialX's for one element, both drawn by the scoreboard's harness, at parity.
+    theirs_shader: MaterialX's (vertex, fragment, textures, seconds) when the caller generated it already."""
+    vs, fs, tex, _ = theirs_shader or reference.generate(path, element)
+    ours = harness_render_ours(harness, path, element)      # (makes the harness's context current)
     theirs, _ = harness.render(vs, fs, tex)
     p = compare.parity(ours, theirs)
     if not p.passes:
         where = save_side_by_side(os.path.basename(path) + "_" + element.replace("/", "_"), ours, theirs)
         raise AssertionError("%s: %s (side by side: %s)" % (element, p, where))
+
+
+_ELEMENT_LISTER = []
+
+
+def scoreboard_elements(paths):
+    """(path, element) for each element MaterialX finds renderable in each file, as the scoreboard counts
+    them; files MaterialX cannot read are not counted (the scoreboard skips them too). Without the
+    materialx wheel this raises: parity must be checked."""
+    from mtlxgen.reference import MaterialXReference
+    if not _ELEMENT_LISTER:
+        _ELEMENT_LISTER.append(MaterialXReference())
+    ref = _ELEMENT_LISTER[0]
+    pairs = []
+    for path in paths:
+        try:
+            elements = ref.elements(path)
+        except Exception:       # e.g. look_brass_tiled includes a file the corpus lacks
+            continue
+        pairs += [(path, element) for element in elements]
+    return pairs
