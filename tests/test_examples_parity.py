@@ -94,3 +94,20 @@ def test_authored_value_does_not_replace_default_geomprop(harness, reference, tm
     body = _surface('<oren_nayar_diffuse_bsdf name="b" type="BSDF"><input name="normal" type="vector3" '
                     'value="1, 0, 0"/></oren_nayar_diffuse_bsdf>')
     assert_parity(harness, reference, write_doc(tmp_path, body, name="normal_value.mtlx"), "g/out")
+
+
+def test_onyx_hextiled_at_parity_with_each_draw_fixed(harness, cms_reference, tmp_path):
+    """Onyx differs from MaterialX only by its per-tile random numbers (docs/differences): with each range one
+    value wide, the same tiles, blend and shading (its colour file is sRGB: MaterialX with its colour management)."""
+    src = os.path.join(EXAMPLES, "StandardSurface", "standard_surface_onyx_hextiled.mtlx")
+    fixed = ('<input name="rotationrange" type="vector2" value="40, 40" />'
+             '<input name="scalerange" type="vector2" value="1.4, 1.4" />'
+             '<input name="offsetrange" type="vector2" value="0.3, 0.3" />')
+    text = open(src).read().replace('<input name="falloff" type="float" interfacename="falloff" />',
+                                    '<input name="falloff" type="float" interfacename="falloff" />' + fixed)
+    text = text.replace('fileprefix="../../../Images/"', 'fileprefix="%s/"' % os.path.abspath(
+        os.path.join(EXAMPLES, "..", "..", "Images")))
+    assert text.count("rotationrange") == 2
+    path = os.path.join(str(tmp_path), "onyx_fixed.mtlx")
+    open(path, "w").write(text)
+    assert_parity(harness, cms_reference, path, "M_OnyxHextiled")

@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 
-from mtlxgen import images
+from mtlxgen import compare, images
 from mtlxgen.diagnostics import MtlxError
 from util import assert_parity_with_materialx, generate_one, write_doc
 
@@ -19,6 +19,7 @@ IMAGES = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", 
 GRID = os.path.abspath(os.path.join(IMAGES, "grid.png"))
 CLOTH = os.path.abspath(os.path.join(IMAGES, "cloth.png"))
 HEIGHT = os.path.abspath(os.path.join(IMAGES, "plain_heightmap.png"))
+BRICK_NORMAL = os.path.abspath(os.path.join(IMAGES, "brick_normal.jpg"))
 
 
 @pytest.fixture(scope="module")
@@ -175,3 +176,49 @@ def test_cmlib_nodes_match_materialx(renderer, reference, tmp_path, node):
     path = write_doc(tmp_path, body)
     assert_parity_with_materialx(renderer, reference, path, "out")
     assert_parity_with_materialx(renderer, reference, path, "out4")
+
+
+# ---------------------------------------------------------------- hex tiling
+
+def _hextile_doc(tmp_path, node, out_type, file, **inputs):
+    types = {"rotationrange": "vector2", "scalerange": "vector2", "offsetrange": "vector2", "flip_g": "boolean",
+             "lumacoeffs": "color3", "tiling": "vector2"}
+    body = "".join('<input name="%s" type="%s" value="%s" />' % (k, types.get(k, "float"), v) for k, v in inputs.items())
+    return write_doc(tmp_path, '<%s name="h" type="%s"><input name="file" type="filename" value="%s" />%s</%s>'
+                               '<output name="out" type="%s" nodename="h" />' % (node, out_type, file, body, node, out_type))
+
+
+# Every per-tile draw fixed (each range one value wide), so the tiles' transforms and blend weights, not the random
+# numbers, are compared: the spec names the ranges, not the generator (ours is the paper's sine hash).
+@pytest.mark.parametrize("out_type, inputs", [
+    ("color3", dict(rotationrange="30, 30", scalerange="1.5, 1.5", offsetrange="0.05, 0.05", tiling="3, 2")),
+    ("color4", dict(rotation=0.4, rotationrange="75, 75", scale=0.6, scalerange="0.7, 0.7", offset=0.3,
+                    offsetrange="0.2, 0.2", falloff=0.8, falloffcontrast=1.0, tiling="4, 4")),
+    ("color3", dict(rotationrange="120, 120", scalerange="2, 2", offsetrange="0.5, 0.5", falloff=0.1,
+                    falloffcontrast=0.0, lumacoeffs="0.2126, 0.7152, 0.0722", tiling="2, 2")),
+], ids=["defaults", "weights", "sharp_falloff"])
+def test_hextiledimage_tiles_match_materialx(renderer, reference, tmp_path, out_type, inputs):
+    path = _hextile_doc(tmp_path, "hextiledimage", out_type, CLOTH, **inputs)
+    assert_parity_with_materialx(renderer, reference, path, "out")
+
+
+def test_hextilednormalmap_tiles_match_materialx_without_rotation(renderer, reference, tmp_path):
+    path = _hextile_doc(tmp_path, "hextilednormalmap", "vector3", BRICK_NORMAL, rotationrange="0, 0", scalerange="1.3, 1.3",
+                        offsetrange="0.25, 0.25", falloff=0.7, strength=0.6, flip_g="true", tiling="3, 3")
+    assert_parity_with_materialx(renderer, reference, path, "out")
+
+
+def test_hextilednormalmap_turns_normals_with_their_tile(renderer, tmp_path):
+    """A tile drawn at t = R(90 deg) uv turns its height gradients by R^T: a normal map leaning towards -x in
+    the texture leans towards +y (the bitangent) on the surface. (MaterialX turns them by R, towards -y.)"""
+    tilted = images.write_image(str(tmp_path / "tilted.exr"), np.tile(np.array([0.25, 0.5, 1.0], np.float32), (4, 4, 1)))
+    hex_path = _hextile_doc(tmp_path, "hextilednormalmap", "vector3", tilted, rotationrange="90, 90",
+                            scale=0.0, offset=0.0)
+    ours = renderer.render(generate_one(hex_path, "out"))
+    leaning = {}
+    for name, encoded in (("plus_y", "0.5, 0.75, 1.0"), ("minus_y", "0.5, 0.25, 1.0")):
+        plain = write_doc(tmp_path, '<normalmap name="n" type="vector3"><input name="in" type="vector3" value="%s" />'
+                                    '</normalmap><output name="out" type="vector3" nodename="n" />' % encoded, name + ".mtlx")
+        leaning[name] = renderer.render(generate_one(plain, "out"))
+    assert compare.parity(ours, leaning["plus_y"]).passes
+    assert not compare.parity(ours, leaning["minus_y"]).passes

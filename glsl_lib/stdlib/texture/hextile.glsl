@@ -1,5 +1,7 @@
 // Hex-tiling: each point blends three randomly transformed copies of the texture over a triangle grid (Mikkelsen 2022, "Practical Real-Time Hex-Tiling", JCGT 11(2); grid from Heitz & Neyret 2018).
 // requires: stdlib/texture/normalmap.glsl
+
+// per-vertex random pair in [0,1)^2 (the sine hash the paper uses); .x drives rotation and offset.x, .y scale and offset.y
 vec2 mg_hextile_hash(vec2 p)
 {
     return fract(sin(vec2(dot(p, vec2(127.1, 311.7)), dot(p, vec2(269.5, 183.3)))) * 43758.5453);
@@ -21,28 +23,56 @@ void mg_hextile_grid(vec2 st, out vec3 w, out vec2 v1, out vec2 v2, out vec2 v3)
     v3 = base + vec2(1.0 - s, s);
 }
 
-// per-tile transform of uv: rotation (radians), scale and offset drawn from the ranges, blended in by strength
-mat2 mg_hextile_rotation(vec2 id, float strength, vec2 range_deg)
+// a grid vertex in uv units (the skew undone, then the 2*sqrt(3) scaling)
+vec2 mg_hextile_centre(vec2 id)
 {
-    float a = radians(mix(range_deg.x, range_deg.y, mg_hextile_hash(id).x)) * strength;
-    return mat2(cos(a), sin(a), -sin(a), cos(a));
+    return vec2(id.x + 0.5 * id.y, 0.86602540 * id.y) / (2.0 * sqrt(3.0));
 }
 
-vec2 mg_hextile_uv(vec2 uv, vec2 id, float rotation, vec2 rotationrange, float scale, vec2 scalerange,
-                   float offset, vec2 offsetrange, out mat2 rot)
+// One tile's copy of the texture: rotated about its vertex, scaled and offset by amounts drawn from the ranges.
+// rotation, scale and offset are the nodedef's randomness weights: each scales how far the draw reaches into its range.
+struct mg_hextile_tile { vec2 uv; mat2 rot; float scale; };
+
+mg_hextile_tile mg_hextile_transform(vec2 uv, vec2 id, float rotation, vec2 rotationrange, float scale,
+                                     vec2 scalerange, float offset, vec2 offsetrange)
 {
-    vec2 h = mg_hextile_hash(id + vec2(0.5));
-    rot = mg_hextile_rotation(id, rotation, rotationrange);
-    float s = mix(1.0, mix(scalerange.x, scalerange.y, h.x), scale);
-    vec2 o = mix(vec2(0.0), mix(vec2(offsetrange.x), vec2(offsetrange.y), h), offset);
-    vec2 centre = id * vec2(0.5, 0.86602540) / sqrt(3.0);          // the vertex in uv units
-    return rot * (uv - centre) / s + centre + o;
+    vec2 h = mg_hextile_hash(id);
+    float a = radians(mix(rotationrange.x, rotationrange.y, rotation * h.x));
+    float s = mix(1.0, mix(scalerange.x, scalerange.y, h.y), scale);
+    vec2 o = mix(vec2(offsetrange.x), vec2(offsetrange.y), offset * h);
+    mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
+    vec2 centre = mg_hextile_centre(id);
+    return mg_hextile_tile(rot * (uv - centre) / s + centre + o, rot, s);
 }
 
-vec3 mg_hextile_weights(vec3 w, float falloff)
+// Schlick's gain (Graphics Gems IV, 1994: "Fast alternatives to Perlin's bias and gain functions"): r < 0.5 steepens, r > 0.5 flattens
+float mg_schlick_bias(float t, float r)
 {
-    w = pow(max(w, vec3(1e-6)), vec3(1.0 + 6.0 * falloff));
-    return w / (w.x + w.y + w.z);
+    return t / ((1.0 / r - 2.0) * (1.0 - t) + 1.0);
+}
+
+vec3 mg_schlick_gain(vec3 t, float r)
+{
+    r = clamp(r, 0.001, 0.999);
+    vec3 g;
+    for (int i = 0; i < 3; ++i)
+        g[i] = t[i] < 0.5 ? 0.5 * mg_schlick_bias(2.0 * t[i], r) : 1.0 - 0.5 * mg_schlick_bias(2.0 - 2.0 * t[i], r);
+    return g;
+}
+
+// Blend weights: barycentrics to the 7th power (the paper's exponent), optionally favouring the brighter copy
+// (its section 3.2, contrast in [0,1]), then the falloff shapes the transition with Schlick's gain.
+vec3 mg_hextile_weights(vec3 w, vec3 luma, float contrast, float falloff)
+{
+    vec3 W = mix(vec3(1.0), luma, contrast) * pow(w, vec3(7.0));
+    W /= W.x + W.y + W.z;
+    W = mg_schlick_gain(W, falloff);
+    return W / (W.x + W.y + W.z);
+}
+
+vec4 mg_hextile_sample(sampler2D tex, mg_hextile_tile t, vec2 dx, vec2 dy)
+{
+    return textureGrad(tex, t.uv, t.rot * dx / t.scale, t.rot * dy / t.scale);
 }
 
 vec4 mg_hextiledimage(sampler2D tex, vec2 texcoord, vec2 tiling, float rotation, vec2 rotationrange, float scale,
@@ -52,19 +82,23 @@ vec4 mg_hextiledimage(sampler2D tex, vec2 texcoord, vec2 tiling, float rotation,
     vec2 uv = texcoord * tiling;
     vec3 w; vec2 v1, v2, v3;
     mg_hextile_grid(uv, w, v1, v2, v3);
-    mat2 r1, r2, r3;
-    vec2 uv1 = mg_hextile_uv(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange, r1);
-    vec2 uv2 = mg_hextile_uv(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange, r2);
-    vec2 uv3 = mg_hextile_uv(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange, r3);
     vec2 dx = dFdx(uv), dy = dFdy(uv);
-    vec4 c1 = textureGrad(tex, uv1, r1 * dx, r1 * dy);
-    vec4 c2 = textureGrad(tex, uv2, r2 * dx, r2 * dy);
-    vec4 c3 = textureGrad(tex, uv3, r3 * dx, r3 * dy);
-    // luminance-weighted blend: brighter features win at the seams (the paper's section 3.2)
+    vec4 c1 = mg_hextile_sample(tex, mg_hextile_transform(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy);
+    vec4 c2 = mg_hextile_sample(tex, mg_hextile_transform(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy);
+    vec4 c3 = mg_hextile_sample(tex, mg_hextile_transform(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy);
     vec3 luma = vec3(dot(c1.rgb, lumacoeffs), dot(c2.rgb, lumacoeffs), dot(c3.rgb, lumacoeffs));
-    vec3 wl = w * pow(max(luma, vec3(1e-4)), vec3(4.0 * falloffcontrast));
-    vec3 ww = mg_hextile_weights(wl / max(wl.x + wl.y + wl.z, 1e-6), falloff);
-    return ww.x * c1 + ww.y * c2 + ww.z * c3;
+    vec3 W = mg_hextile_weights(w, luma, falloffcontrast, falloff);
+    return W.x * c1 + W.y * c2 + W.z * c3;
+}
+
+// one tile's tangent-space normal, its xy turned back by the tile's rotation: texture coordinates t = R uv give
+// height gradients d/duv = R^T d/dt, so the bumps keep facing the light they face in the texture
+vec3 mg_hextile_normal(sampler2D tex, mg_hextile_tile t, vec2 dx, vec2 dy, float g)
+{
+    vec3 n = mg_hextile_sample(tex, t, dx, dy).xyz * 2.0 - 1.0;
+    n.y *= g;
+    n.xy = transpose(t.rot) * n.xy;
+    return n;
 }
 
 vec3 mg_hextilednormalmap(sampler2D tex, vec2 texcoord, vec2 tiling, float rotation, vec2 rotationrange, float scale,
@@ -74,21 +108,13 @@ vec3 mg_hextilednormalmap(sampler2D tex, vec2 texcoord, vec2 tiling, float rotat
     vec2 uv = texcoord * tiling;
     vec3 w; vec2 v1, v2, v3;
     mg_hextile_grid(uv, w, v1, v2, v3);
-    mat2 r1, r2, r3;
-    vec2 uv1 = mg_hextile_uv(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange, r1);
-    vec2 uv2 = mg_hextile_uv(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange, r2);
-    vec2 uv3 = mg_hextile_uv(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange, r3);
     vec2 dx = dFdx(uv), dy = dFdy(uv);
     float g = flip_g ? -1.0 : 1.0;
-    // tangent-space xy rotate back with their tile so the bumps stay consistent
-    vec3 n1 = textureGrad(tex, uv1, r1 * dx, r1 * dy).xyz * 2.0 - 1.0;
-    vec3 n2 = textureGrad(tex, uv2, r2 * dx, r2 * dy).xyz * 2.0 - 1.0;
-    vec3 n3 = textureGrad(tex, uv3, r3 * dx, r3 * dy).xyz * 2.0 - 1.0;
-    n1.xy = transpose(r1) * (n1.xy * vec2(1.0, g));
-    n2.xy = transpose(r2) * (n2.xy * vec2(1.0, g));
-    n3.xy = transpose(r3) * (n3.xy * vec2(1.0, g));
-    vec3 ww = mg_hextile_weights(w, falloff);
-    vec3 n = ww.x * n1 + ww.y * n2 + ww.z * n3;
+    vec3 n1 = mg_hextile_normal(tex, mg_hextile_transform(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
+    vec3 n2 = mg_hextile_normal(tex, mg_hextile_transform(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
+    vec3 n3 = mg_hextile_normal(tex, mg_hextile_transform(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
+    vec3 W = mg_hextile_weights(w, vec3(1.0), 0.0, falloff);
+    vec3 n = W.x * n1 + W.y * n2 + W.z * n3;
     n.xy *= strength;
     return mg_normalmap(n * 0.5 + 0.5, 1.0, N, T, B);
 }
