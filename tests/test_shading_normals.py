@@ -68,3 +68,44 @@ def test_unit_mapped_shader_differs_only_by_materialx_merging_same_named_nodes(h
     with open(path, "w") as f:
         f.write(text[:i] + text[i:j].replace('"ramp4"', '"ramp4_blue"') + text[j:])
     assert_parity(harness, reference, path, "UnitMappedShaderMaterial")
+
+
+@pytest.mark.parametrize("length", ["2", "0.25"])
+def test_bsdf_normal_of_any_length_shades_as_its_direction(renderer, tmp_path, length):
+    """A connected normal need not be unit length (metal_definition.mtlx's nodedef defaults one to (1, 1, 1)):
+    BSDFs shade with its direction. (MaterialX's environment integration uses the vector as given in part.)"""
+    from mtlxgen import compare
+    from util import generate_one
+
+    def render(scale):
+        body = """<nodedef name="ND_tilted" node="tilted"><input name="N" type="vector3" value="0.3, 0.5, 0.8" />
+      <output name="out" type="surfaceshader" /></nodedef>
+    <nodegraph name="NG_tilted" nodedef="ND_tilted">
+      <multiply name="k" type="vector3"><input name="in1" type="vector3" interfacename="N" />
+        <input name="in2" type="float" value="%s" /></multiply>
+      <normalize name="u" type="vector3"><input name="in" type="vector3" interfacename="N" /></normalize>
+      <multiply name="s" type="vector3"><input name="in1" type="vector3" nodename="u" />
+        <input name="in2" type="float" value="%s" /></multiply>
+      <standard_surface name="ss" type="surfaceshader"><input name="metalness" type="float" value="0.6" />
+        <input name="specular_roughness" type="float" value="0.3" /><input name="coat" type="float" value="0.5" />
+        <input name="normal" type="vector3" nodename="s" /></standard_surface>
+      <output name="out" type="surfaceshader" nodename="ss" /></nodegraph>
+    <tilted name="t" type="surfaceshader" />
+    <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="t" /></surfacematerial>""" % (scale, scale)
+        return renderer.render(generate_one(write_doc(tmp_path, body, name="len%s.mtlx" % scale), "M"))
+
+    unit, scaled = render("1"), render(length)
+    assert compare.parity(scaled, unit).passes
+
+
+def test_metal_definition_with_a_unit_normal_matches_materialx(harness, reference, tmp_path):
+    """metal_definition.mtlx differs only by its non-unit default normal (docs/differences): made unit, at parity."""
+    src = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite",
+                       "libraries", "metal", "libraries", "metal_definition.mtlx")
+    text = open(src).read()
+    unit = text.replace('name="SurfaceNormal" type="vector3" value="1, 1, 1"',
+                        'name="SurfaceNormal" type="vector3" value="0.57735027, 0.57735027, 0.57735027"')
+    assert unit != text
+    path = os.path.join(str(tmp_path), "metal_unit.mtlx")
+    open(path, "w").write(unit)
+    assert_parity(harness, reference, path, "NG_TestMetal/out")

@@ -80,8 +80,10 @@ NODEDEFS = {
     "ND_layer_bsdf": {"expr": "mg_layer({{top}}, {{base}})", "files": _COMBINE},
     "ND_add_bsdf": {"expr": "mg_add({{in1}}, {{in2}})", "files": _COMBINE},
     "ND_add_vdf": {"expr": "mg_add({{in1}}, {{in2}})", "files": _COMBINE},
-    "ND_multiply_bsdfC": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},
-    "ND_multiply_bsdfF": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},
+    # a BSDF's weight stays in [0, 1] (the spec: no more than 1 to conserve energy; below 0 it would return
+    # negative light); a VDF's may exceed 1 (a denser medium)
+    "ND_multiply_bsdfC": {"expr": "mg_scale({{in1}}, clamp({{in2}}, 0.0, 1.0))", "files": _COMBINE},
+    "ND_multiply_bsdfF": {"expr": "mg_scale({{in1}}, clamp({{in2}}, 0.0, 1.0))", "files": _COMBINE},
     "ND_multiply_vdfC": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},
     "ND_multiply_vdfF": {"expr": "mg_scale({{in1}}, {{in2}})", "files": _COMBINE},
 }
