@@ -47,3 +47,22 @@ def test_math_corpus_matches_materialx(name, renderer, reference):
         checked += 1
     assert not failures, "\n".join(failures)
     assert checked >= min(5, len(elements)) > 0       # the elements were really compared
+
+
+def test_min_and_max_component_render_the_channel_they_name(renderer):
+    """mincomponent / maxcomponent (newer than the materialx wheel, whose MaterialX cannot generate them): each
+    corpus element draws the smallest / largest channel of its input."""
+    import re
+    import numpy as np
+    from mtlxgen import pipeline
+    path = os.path.join(TESTSUITE, "stdlib", "math", "vector_math.mtlx")
+    text = open(path).read()
+    cases = re.findall(r'<nodegraph name="((min|max)component_\w+)">\s*<\2component name="\w+" type="float">\s*'
+                       r'<input name="in" type="\w+" value="([^"]+)"', text)
+    assert len(cases) == 10
+    for name, which, value in cases:
+        channels = [float(v) for v in value.split(",")]
+        expected = min(channels) if which == "min" else max(channels)
+        img = renderer.render(pipeline.generate(path, [name + "/out"])[0])
+        centre = img[img.shape[0] // 2, img.shape[1] // 2, :3]
+        assert np.allclose(centre, expected, atol=1e-5), (name, centre, expected)

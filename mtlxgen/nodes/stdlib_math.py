@@ -40,6 +40,8 @@ NODES = {
     "transformmatrix": "{{mat}} * {{in}}",
     "rotate2d": {"expr": "mg_rotate2d({{in}}, {{amount}})", "files": ["stdlib/math/rotate.glsl"]},
     "rotate3d": {"expr": "mg_rotate3d({{in}}, {{amount}}, {{axis}})", "files": ["stdlib/math/rotate.glsl"]},
+    "mincomponent": {"expr": "mg_mincomponent({{in}})", "files": ["stdlib/math/component.glsl"]},
+    "maxcomponent": {"expr": "mg_maxcomponent({{in}})", "files": ["stdlib/math/component.glsl"]},
     "transformpoint": {"handler": "transform_space"},
     "transformvector": {"handler": "transform_space"},
     "transformnormal": {"handler": "transform_space"},
