@@ -161,7 +161,10 @@ def test_corpus_udim_file_parses_and_expands(tmp_path):
     '<image name="i" type="color3"><input name="file" type="filename" value="%s" /></image>'
     '<blur name="b" type="color3"><input name="in" type="color3" nodename="i" /><input name="size" type="float" value="0.5" />'
     '</blur><output name="out" type="color3" nodename="b" />' % GRID,
-], ids=["normalmap", "normalmap_vector2", "bump", "heighttonormal", "triplanar", "tiledimage", "blur"])
+    '<image name="i" type="vector3"><input name="file" type="filename" value="%s" /></image>'
+    '<normalmap name="n" type="vector3"><input name="in" type="vector3" nodename="i" /></normalmap>'
+    '<output name="out" type="vector3" nodename="n" />' % HEIGHT,
+], ids=["normalmap", "normalmap_vector2", "bump", "heighttonormal", "triplanar", "tiledimage", "blur", "normalmap_black_texels"])
 def test_texture_nodes_match_materialx(renderer, reference, tmp_path, body):
     assert_parity_with_materialx(renderer, reference, write_doc(tmp_path, body), "out")
 
@@ -202,8 +205,11 @@ def test_hextiledimage_tiles_match_materialx(renderer, reference, tmp_path, out_
     assert_parity_with_materialx(renderer, reference, path, "out")
 
 
-def test_hextilednormalmap_tiles_match_materialx_without_rotation(renderer, reference, tmp_path):
-    path = _hextile_doc(tmp_path, "hextilednormalmap", "vector3", BRICK_NORMAL, rotationrange="0, 0", scalerange="1.3, 1.3",
+# normals blend as height slopes (xy / |z|, the paper's derivatives); the height map read as a normal map has
+# texels with z below 0 and all-zero ones
+@pytest.mark.parametrize("file", [BRICK_NORMAL, HEIGHT], ids=["normal_map", "height_map"])
+def test_hextilednormalmap_tiles_match_materialx_without_rotation(renderer, reference, tmp_path, file):
+    path = _hextile_doc(tmp_path, "hextilednormalmap", "vector3", file, rotationrange="0, 0", scalerange="1.3, 1.3",
                         offsetrange="0.25, 0.25", falloff=0.7, strength=0.6, flip_g="true", tiling="3, 3")
     assert_parity_with_materialx(renderer, reference, path, "out")
 

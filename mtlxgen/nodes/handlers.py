@@ -197,7 +197,6 @@ def hextiledimage(node, em):
     args = ", ".join(em.input_expr(node, n) for n in (
         "texcoord", "tiling", "rotation", "rotationrange", "scale", "scalerange", "offset", "offsetrange", "falloff"))
     if node.category == "hextilednormalmap":
-        em.require("stdlib/texture/normalmap.glsl")
         return {"out": "mg_hextilednormalmap(%s, %s, %s, %s, %s, %s, %s)" % (
             sampler, args, em.input_expr(node, "strength"), em.input_expr(node, "flip_g"),
             em.input_expr(node, "normal"), em.input_expr(node, "tangent"), em.input_expr(node, "bitangent"))}

@@ -1,5 +1,4 @@
 // Hex-tiling: each point blends three randomly transformed copies of the texture over a triangle grid (Mikkelsen 2022, "Practical Real-Time Hex-Tiling", JCGT 11(2); grid from Heitz & Neyret 2018).
-// requires: stdlib/texture/normalmap.glsl
 
 // per-vertex random pair in [0,1)^2 (the sine hash the paper uses); .x drives rotation and offset.x, .y scale and offset.y
 vec2 mg_hextile_hash(vec2 p)
@@ -91,14 +90,14 @@ vec4 mg_hextiledimage(sampler2D tex, vec2 texcoord, vec2 tiling, float rotation,
     return W.x * c1 + W.y * c2 + W.z * c3;
 }
 
-// one tile's tangent-space normal, its xy turned back by the tile's rotation: texture coordinates t = R uv give
-// height gradients d/duv = R^T d/dt, so the bumps keep facing the light they face in the texture
-vec3 mg_hextile_normal(sampler2D tex, mg_hextile_tile t, vec2 dx, vec2 dy, float g)
+// One tile's normal as height derivatives (the paper blends normal maps as derivatives of a height map): the
+// slopes xy/|z| of its tangent-space normal, turned back by the tile's rotation: texture coordinates t = R uv
+// give height gradients d/duv = R^T d/dt, so the bumps keep facing the light they face in the texture.
+vec2 mg_hextile_slopes(sampler2D tex, mg_hextile_tile t, vec2 dx, vec2 dy, float g)
 {
     vec3 n = mg_hextile_sample(tex, t, dx, dy).xyz * 2.0 - 1.0;
     n.y *= g;
-    n.xy = transpose(t.rot) * n.xy;
-    return n;
+    return transpose(t.rot) * (n.xy / max(abs(n.z), 1.0e-4));
 }
 
 vec3 mg_hextilednormalmap(sampler2D tex, vec2 texcoord, vec2 tiling, float rotation, vec2 rotationrange, float scale,
@@ -110,11 +109,10 @@ vec3 mg_hextilednormalmap(sampler2D tex, vec2 texcoord, vec2 tiling, float rotat
     mg_hextile_grid(uv, w, v1, v2, v3);
     vec2 dx = dFdx(uv), dy = dFdy(uv);
     float g = flip_g ? -1.0 : 1.0;
-    vec3 n1 = mg_hextile_normal(tex, mg_hextile_transform(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
-    vec3 n2 = mg_hextile_normal(tex, mg_hextile_transform(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
-    vec3 n3 = mg_hextile_normal(tex, mg_hextile_transform(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
+    vec2 d1 = mg_hextile_slopes(tex, mg_hextile_transform(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
+    vec2 d2 = mg_hextile_slopes(tex, mg_hextile_transform(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
+    vec2 d3 = mg_hextile_slopes(tex, mg_hextile_transform(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
     vec3 W = mg_hextile_weights(w, vec3(1.0), 0.0, falloff);
-    vec3 n = W.x * n1 + W.y * n2 + W.z * n3;
-    n.xy *= strength;
-    return mg_normalmap(n * 0.5 + 0.5, 1.0, N, T, B);
+    vec2 slopes = (W.x * d1 + W.y * d2 + W.z * d3) * strength;
+    return normalize(T * slopes.x + B * slopes.y + N);
 }
