@@ -269,7 +269,8 @@ class Emitter:
         return var
 
     # edges that carry a condition: (category, input) -> template of when the input's closure matters
-    # (exactly: mix extrapolates outside [0, 1], so only the factors 0 and 1 drop a side)
+    # (exactly, for every factor: an EDF mix extrapolates outside [0, 1]; a BSDF/VDF mix holds its factor there,
+    # where a side it weighs 0 is computed to no effect)
     EDGE_CONDITIONS = {("mix", "fg"): "{mix} != 0.0", ("mix", "bg"): "{mix} != 1.0"}
 
     def plan_closures(self, root):

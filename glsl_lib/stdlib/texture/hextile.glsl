@@ -69,6 +69,17 @@ vec3 mg_hextile_weights(vec3 w, vec3 luma, float contrast, float falloff)
     return W / (W.x + W.y + W.z);
 }
 
+// the three tiles whose copies meet at uv, and their barycentric weights
+void mg_hextile_tiles(vec2 uv, float rotation, vec2 rotationrange, float scale, vec2 scalerange, float offset,
+                      vec2 offsetrange, out vec3 w, out mg_hextile_tile t1, out mg_hextile_tile t2, out mg_hextile_tile t3)
+{
+    vec2 v1, v2, v3;
+    mg_hextile_grid(uv, w, v1, v2, v3);
+    t1 = mg_hextile_transform(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange);
+    t2 = mg_hextile_transform(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange);
+    t3 = mg_hextile_transform(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange);
+}
+
 vec4 mg_hextile_sample(sampler2D tex, mg_hextile_tile t, vec2 dx, vec2 dy)
 {
     return textureGrad(tex, t.uv, t.rot * dx / t.scale, t.rot * dy / t.scale);
@@ -79,12 +90,10 @@ vec4 mg_hextiledimage(sampler2D tex, vec2 texcoord, vec2 tiling, float rotation,
                       vec3 lumacoeffs)
 {
     vec2 uv = texcoord * tiling;
-    vec3 w; vec2 v1, v2, v3;
-    mg_hextile_grid(uv, w, v1, v2, v3);
+    vec3 w; mg_hextile_tile t1, t2, t3;
+    mg_hextile_tiles(uv, rotation, rotationrange, scale, scalerange, offset, offsetrange, w, t1, t2, t3);
     vec2 dx = dFdx(uv), dy = dFdy(uv);
-    vec4 c1 = mg_hextile_sample(tex, mg_hextile_transform(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy);
-    vec4 c2 = mg_hextile_sample(tex, mg_hextile_transform(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy);
-    vec4 c3 = mg_hextile_sample(tex, mg_hextile_transform(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy);
+    vec4 c1 = mg_hextile_sample(tex, t1, dx, dy), c2 = mg_hextile_sample(tex, t2, dx, dy), c3 = mg_hextile_sample(tex, t3, dx, dy);
     vec3 luma = vec3(dot(c1.rgb, lumacoeffs), dot(c2.rgb, lumacoeffs), dot(c3.rgb, lumacoeffs));
     vec3 W = mg_hextile_weights(w, luma, falloffcontrast, falloff);
     return W.x * c1 + W.y * c2 + W.z * c3;
@@ -105,13 +114,12 @@ vec3 mg_hextilednormalmap(sampler2D tex, vec2 texcoord, vec2 tiling, float rotat
                           vec3 N, vec3 T, vec3 B)
 {
     vec2 uv = texcoord * tiling;
-    vec3 w; vec2 v1, v2, v3;
-    mg_hextile_grid(uv, w, v1, v2, v3);
+    vec3 w; mg_hextile_tile t1, t2, t3;
+    mg_hextile_tiles(uv, rotation, rotationrange, scale, scalerange, offset, offsetrange, w, t1, t2, t3);
     vec2 dx = dFdx(uv), dy = dFdy(uv);
     float g = flip_g ? -1.0 : 1.0;
-    vec2 d1 = mg_hextile_slopes(tex, mg_hextile_transform(uv, v1, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
-    vec2 d2 = mg_hextile_slopes(tex, mg_hextile_transform(uv, v2, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
-    vec2 d3 = mg_hextile_slopes(tex, mg_hextile_transform(uv, v3, rotation, rotationrange, scale, scalerange, offset, offsetrange), dx, dy, g);
+    vec2 d1 = mg_hextile_slopes(tex, t1, dx, dy, g), d2 = mg_hextile_slopes(tex, t2, dx, dy, g),
+         d3 = mg_hextile_slopes(tex, t3, dx, dy, g);
     vec3 W = mg_hextile_weights(w, vec3(1.0), 0.0, falloff);
     vec2 slopes = (W.x * d1 + W.y * d2 + W.z * d3) * strength;
     return normalize(T * slopes.x + B * slopes.y + N);
