@@ -3,11 +3,11 @@ material never returns negative light or more than its lobes reflect; documents 
 unit-tagged Jade of TestSuite/stdlib/units) then render as MaterialX's do."""
 import os
 
-import numpy as np
 import pytest
 
 from mtlxgen import compare
-from util import assert_harness_parity, assert_parity_with_materialx, generate_one, write_doc
+from util import (assert_harness_parity, assert_parity_with_materialx, bsdf_material, generate_one,
+                  render_with_materialx, write_doc)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 JADE = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite", "stdlib",
@@ -19,17 +19,11 @@ GREEN = ('<oren_nayar_diffuse_bsdf name="c" type="BSDF"><input name="color" type
          '</oren_nayar_diffuse_bsdf>')
 
 
-def _material(bsdf_body, bsdf="b"):
-    return bsdf_body + ('<surface name="s" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="%s" /></surface>'
-                        '<surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" '
-                        'nodename="s" /></surfacematerial>' % bsdf)
-
-
 @pytest.mark.parametrize("in2", ['type="float" value="2"', 'type="float" value="-1"', 'type="color3" value="1.5, 0.5, -0.5"'])
 def test_bsdf_multiply_weight_is_held_to_unit_range_like_materialx(renderer, reference, tmp_path, in2):
     body = DIFFUSE + '<multiply name="b" type="BSDF"><input name="in1" type="BSDF" nodename="a" /><input name="in2" %s />' \
                      '</multiply>' % in2
-    assert_parity_with_materialx(renderer, reference, write_doc(tmp_path, _material(body)), "m")
+    assert_parity_with_materialx(renderer, reference, write_doc(tmp_path, bsdf_material(body)), "m")
 
 
 @pytest.mark.parametrize("weight, alone", [("3", "c"), ("-2", "a"), ("1", "c"), ("0", "a")])
@@ -37,8 +31,8 @@ def test_bsdf_mix_weight_is_held_to_unit_range(renderer, tmp_path, weight, alone
     mixed = DIFFUSE + GREEN + ('<mix name="b" type="BSDF"><input name="fg" type="BSDF" nodename="c" />'
                                '<input name="bg" type="BSDF" nodename="a" /><input name="mix" type="float" value="%s" />'
                                '</mix>' % weight)
-    ours = renderer.render(generate_one(write_doc(tmp_path, _material(mixed), "mix.mtlx"), "m"))
-    lone = renderer.render(generate_one(write_doc(tmp_path, _material(DIFFUSE + GREEN, alone), "lone.mtlx"), "m"))
+    ours = renderer.render(generate_one(write_doc(tmp_path, bsdf_material(mixed), "mix.mtlx"), "m"))
+    lone = renderer.render(generate_one(write_doc(tmp_path, bsdf_material(DIFFUSE + GREEN, alone), "lone.mtlx"), "m"))
     assert compare.parity(ours, lone).passes
     assert ours[..., :3].min() >= 0.0
 
@@ -62,14 +56,12 @@ def test_rough_white_mirror_keeps_its_energy_where_materialx_loses_some(referenc
     1%); MaterialX's energy compensation falls short by more than 2% (listed in docs/differences)."""
     from mtlxgen.render import Renderer
     from test_furnace import white_environment
-    body = _material('<generalized_schlick_bsdf name="b" type="BSDF"><input name="roughness" type="vector2" '
+    body = bsdf_material('<generalized_schlick_bsdf name="b" type="BSDF"><input name="roughness" type="vector2" '
                      'value="1, 1" /><input name="color0" type="color3" value="1, 1, 1" />'
                      '<input name="color90" type="color3" value="1, 1, 1" /></generalized_schlick_bsdf>')
     path = write_doc(tmp_path, body)
     with Renderer(size=64, environment=white_environment()) as r:
-        ours = r.render(generate_one(path, "m"))
-        vs, fs, tex, _ = reference.generate(path, "m")
-        theirs, _ = r.render_timed(vs, fs, {}, tex)
+        ours, theirs = render_with_materialx(r, reference, path, "m")
     covered = theirs[..., 3] > 0.5
     assert abs(ours[..., :3][covered].mean() - 1.0) < 0.01
     assert theirs[..., :3][covered].mean() < 0.98

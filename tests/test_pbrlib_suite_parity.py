@@ -74,18 +74,14 @@ def test_rough_transmission_never_exceeds_the_furnace_where_materialx_does(refer
     every pixel; MaterialX's outer ring averages well over 1 (the reason transp_hint differs)."""
     from test_furnace import white_environment
     from mtlxgen.render import Renderer
-    from util import generate_one, write_doc
-    body = ('<dielectric_bsdf name="b" type="BSDF"><input name="roughness" type="vector2" value="0.3, 0.3" />'
-            '<input name="ior" type="float" value="1.5" /><input name="scatter_mode" type="string" value="T" />'
-            '</dielectric_bsdf><surface name="s" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="b" />'
-            '</surface><surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" '
-            'nodename="s" /></surfacematerial>')
+    from util import bsdf_material, render_with_materialx, write_doc
+    body = bsdf_material('<dielectric_bsdf name="b" type="BSDF"><input name="roughness" type="vector2" value="0.3, 0.3" />'
+                         '<input name="ior" type="float" value="1.5" /><input name="scatter_mode" type="string" value="T" />'
+                         '</dielectric_bsdf>')
     path = write_doc(tmp_path, body)
     size = 96
     with Renderer(size=size, environment=white_environment()) as r:
-        ours = r.render(generate_one(path, "m"))
-        vs, fs, tex, _ = reference.generate(path, "m")
-        theirs, _ = r.render_timed(vs, fs, {}, tex)
+        ours, theirs = render_with_materialx(r, reference, path, "m")
 
     def outer_ring(img):
         covered = img[..., 3] > 0.5

@@ -1,4 +1,5 @@
 """Helpers for tests: write a document, generate it, render ours and MaterialX's, compare."""
+import functools
 import os
 
 import numpy as np
@@ -31,12 +32,24 @@ def save_side_by_side(name, ours, theirs):
     return path
 
 
-def assert_parity_with_materialx(renderer, reference, path, element):
-    """Render our shader and MaterialX's for one element in our harness and assert parity."""
-    ours_shader = generate_one(path, element)
-    ours = renderer.render(ours_shader)
+def bsdf_material(body, bsdf="b"):
+    """MaterialX elements `body` plus a surface `s` over its BSDF node `bsdf` and a surfacematerial `m`."""
+    return body + ('<surface name="s" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="%s" /></surface>'
+                   '<surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" '
+                   'nodename="s" /></surfacematerial>' % bsdf)
+
+
+def render_with_materialx(renderer, reference, path, element):
+    """(ours, MaterialX's) renders of one element, both drawn by `renderer` (our harness, any environment)."""
+    ours = renderer.render(generate_one(path, element))
     vs, fs, tex, _ = reference.generate(path, element)
     theirs, _ = renderer.render_timed(vs, fs, {}, tex)
+    return ours, theirs
+
+
+def assert_parity_with_materialx(renderer, reference, path, element):
+    """Render our shader and MaterialX's for one element in our harness and assert parity."""
+    ours, theirs = render_with_materialx(renderer, reference, path, element)
     p = compare.parity(ours, theirs)
     if not p.passes:
         where = save_side_by_side(os.path.basename(path) + "_" + element, ours, theirs)
@@ -65,17 +78,17 @@ def assert_harness_parity(harness, reference, path, element, theirs_shader=None)
         raise AssertionError("%s: %s (side by side: %s)" % (element, p, where))
 
 
-_ELEMENT_LISTER = []
+@functools.lru_cache(maxsize=1)
+def _element_lister():
+    from mtlxgen.reference import MaterialXReference
+    return MaterialXReference()
 
 
 def scoreboard_elements(paths):
     """(path, element) for each element MaterialX finds renderable in each file, as the scoreboard counts
     them; files MaterialX cannot read are not counted (the scoreboard skips them too). Without the
     materialx wheel this raises: parity must be checked."""
-    from mtlxgen.reference import MaterialXReference
-    if not _ELEMENT_LISTER:
-        _ELEMENT_LISTER.append(MaterialXReference())
-    ref = _ELEMENT_LISTER[0]
+    ref = _element_lister()
     pairs = []
     for path in paths:
         try:
