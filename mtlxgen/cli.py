@@ -1,9 +1,11 @@
 """Command line: mtlxgen generate | render | info | golden check/update | report | batch.
 
-Errors in input print one `FILE:LINE: problem` line each on stderr and exit with status 1;
-usage errors exit with 2. No tracebacks for bad input.
+Errors in input print one `FILE:LINE: problem` line each on stderr and exit with status 1; so do
+usage errors and bad option values (`mtlxgen CMD: error: argument OPT: problem`), checked before any
+work starts. No tracebacks for bad input; exit 3 is kept for our own bugs.
 """
 import argparse
+import math
 import os
 import sys
 
@@ -15,6 +17,120 @@ def _report(e):
     for line in e.lines():
         print(line, file=sys.stderr)
     return 1
+
+
+# ---------------------------------------------------------------- option values
+# argparse calls these on each value; ArgumentTypeError becomes "argument OPT: message" (one line).
+
+MAX_SIZE = 8192        # an 8192² float RGBA framebuffer is already 1 GiB
+MAX_WORKERS = 256      # each worker is a process with its own GL context
+
+
+class _Parser(argparse.ArgumentParser):
+    """Usage errors are one line and exit 1, like every other bad input (argparse prints usage, exits 2)."""
+
+    def error(self, message):
+        self.exit(1, "%s: error: %s (see %s --help)\n" % (self.prog, " ".join(message.split()), self.prog))
+
+
+def _bad(text, problem):
+    return argparse.ArgumentTypeError("%s: %s" % (text, problem) if text else "empty path: %s" % problem)
+
+
+def _int_in(lo, hi):
+    def whole_number(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError("%r is not a whole number" % text) from None
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError("%d is out of range: must be %d to %d" % (v, lo, hi))
+        return v
+    return whole_number
+
+
+def _float_in(lo, hi):
+    def number(text):
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError("%r is not a number" % text) from None
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise argparse.ArgumentTypeError("%s is out of range: must be %g to %g" % (text, lo, hi))
+        return v
+    return number
+
+
+def _readable_file(text):
+    if not os.path.exists(text):
+        raise _bad(text, "no such file")
+    if os.path.isdir(text):
+        raise _bad(text, "is a directory, not a file")
+    if not os.path.isfile(text):                     # devices and FIFOs: reading them may never end
+        raise _bad(text, "not a regular file")
+    if not os.access(text, os.R_OK):
+        raise _bad(text, "not readable")
+    return text
+
+
+def _existing_dir(text):
+    if not os.path.exists(text):
+        raise _bad(text, "no such directory")
+    if not os.path.isdir(text):
+        raise _bad(text, "not a directory")
+    if not os.access(text, os.R_OK | os.X_OK):
+        raise _bad(text, "directory not readable")
+    return text
+
+
+def _creatable(path):
+    """None when a directory could be made at PATH (missing parts and all), else why not."""
+    if os.path.lexists(path) and not os.path.exists(path):
+        return "a dangling symbolic link"
+    parent = os.path.abspath(path)
+    while not os.path.exists(parent):
+        parent = os.path.dirname(parent)
+    if not os.path.isdir(parent):
+        return "cannot create it: %s is not a directory" % parent
+    if not os.access(parent, os.W_OK | os.X_OK):
+        return "cannot write in %s" % parent
+    return None
+
+
+def _output_dir(text):
+    if os.path.exists(text) and not os.path.isdir(text):
+        raise _bad(text, "exists and is not a directory")
+    why = _creatable(text) if text else "not a directory name"
+    if why:
+        raise _bad(text, why)
+    return text
+
+
+def _output_file(text):
+    if not text or text.endswith(os.sep) or os.path.isdir(text):
+        raise _bad(text, "is a directory, not a file name")
+    if os.path.lexists(text) and not os.path.isfile(text):
+        raise _bad(text, "exists and is not a regular file")
+    why = _creatable(os.path.dirname(os.path.abspath(text)))
+    if why:
+        raise _bad(text, why)
+    return text
+
+
+def _name(text):
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an element name must not be empty")
+    return text
+
+
+def _check_document(path):
+    """The input document: FILE:0 style like every other problem with a file."""
+    problem = ("no such file" if not os.path.exists(path) else
+               "is a directory, not a .mtlx document" if os.path.isdir(path) else
+               "not a regular file" if not os.path.isfile(path) else
+               "not readable" if not os.access(path, os.R_OK) else None)
+    if problem:
+        raise MtlxError((Loc(path or "<empty path>", 0), problem))
 
 
 def cmd_generate(args):
@@ -95,14 +211,16 @@ def _print_check(run, verbose=False):
 def cmd_golden_check(args):
     from . import golden, report
     tol = golden.Tolerance(threshold=args.threshold, max_fraction=args.max_fraction, flip=args.flip_limit)
-    run = golden.check(args.paths, args.goldens, args.output, tol, workers=args.workers,
+    run = golden.check(args.paths, args.goldens or golden.DEFAULT_DIR, args.output, tol, workers=args.workers,
                        progress=False if args.no_progress else None, flip=not args.no_flip,
                        library_dirs=args.library)
     _print_check(run, args.verbose)
     html_path = report.write_report(run.out_dir)
     c = run.counts()
-    print("golden check: %d passed, %d failed, %d missing, %d errors; images in %s; report %s"
-          % (c["pass"], c["fail"], c["missing"], c["error"], _show(run.out_dir), _show(html_path)))
+    kept = any(r["files"] for r in run.results)       # only failures leave images
+    print("golden check: %d passed, %d failed, %d missing, %d errors; %sreport %s"
+          % (c["pass"], c["fail"], c["missing"], c["error"],
+             "images of failures in %s; " % _show(run.out_dir) if kept else "", _show(html_path)))
     if args.timings:
         print(_timings(run.results))
     return 0 if run.ok else 1
@@ -141,11 +259,9 @@ def cmd_report(args):
     from . import golden, report
     out = args.dir
     if not os.path.exists(os.path.join(out, "results.json")):
-        if not os.path.isdir(out):
-            raise MtlxError((Loc(out, 0), "not a directory"))
         # a directory of materials: check it first, into --checks
-        run = golden.check([out], args.goldens, args.checks, workers=args.workers,
-                           progress=False if args.no_progress else None)
+        run = golden.check([out], args.goldens or golden.DEFAULT_DIR, args.checks, workers=args.workers,
+                           progress=False if args.no_progress else None, library_dirs=args.library)
         out = run.out_dir
     path = report.write_report(out, args.output)
     print(path)
@@ -175,12 +291,12 @@ def cmd_batch(args):
 
 
 def build_parser():
-    ap = argparse.ArgumentParser(prog="mtlxgen", description="MaterialX documents to GLSL shaders")
-    sub = ap.add_subparsers(dest="command", required=True)
+    ap = _Parser(prog="mtlxgen", description="MaterialX documents to GLSL shaders")
+    sub = ap.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
     def common(p):
         p.add_argument("file", help="a .mtlx document")
-        p.add_argument("--library", action="append", default=[], metavar="DIR",
+        p.add_argument("--library", action="append", default=[], metavar="DIR", type=_existing_dir,
                        help="extra directory of .mtlx definitions (repeatable)")
         p.add_argument("--usd-seed-rules", action=argparse.BooleanOptionalAction, default=None,
                        help="USD preview nodes follow the UsdPreviewSurface seed's rules rather than MaterialX's "
@@ -193,18 +309,20 @@ def build_parser():
 
     p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
     common(p)
-    p.add_argument("-o", "--output", required=True, metavar="DIR")
-    p.add_argument("--element", metavar="NAME", help="only this element (name path)")
+    p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
+    p.add_argument("--element", metavar="NAME", type=_name, help="only this element (name path)")
     p.add_argument("-v", "--verbose", action="store_true", help="print the paths written")
     p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser("render", help="render each element on a sphere to NAME.png (sRGB) and NAME.exr (linear)")
     common(p)
-    p.add_argument("-o", "--output", required=True, metavar="DIR")
-    p.add_argument("--element", metavar="NAME")
-    p.add_argument("--size", type=int, default=256)
-    p.add_argument("--env", metavar="FILE", help="lat-long HDR/EXR environment (default: built-in sky)")
-    p.add_argument("--lights", metavar="RIG.mtlx",
+    p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
+    p.add_argument("--element", metavar="NAME", type=_name, help="only this element (name path)")
+    p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=256, metavar="N",
+                   help="image width and height in pixels, 1 to %d (default: 256)" % MAX_SIZE)
+    p.add_argument("--env", metavar="FILE", type=_readable_file,
+                   help="lat-long HDR/EXR environment (default: built-in sky)")
+    p.add_argument("--lights", metavar="RIG.mtlx", type=_readable_file,
                    help="bind a light-rig document's point/directional/spot lights to u_lightData")
     p.set_defaults(func=cmd_render)
 
@@ -213,27 +331,28 @@ def build_parser():
     p.set_defaults(func=cmd_info)
 
     def pool(p):
-        p.add_argument("-j", "--workers", type=int, default=None, metavar="N",
-                       help="render processes (default: one per core)")
+        p.add_argument("-j", "--workers", type=_int_in(1, MAX_WORKERS), default=None, metavar="N",
+                       help="render processes, 1 to %d (default: one per core)" % MAX_WORKERS)
         p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
-        p.add_argument("--library", action="append", default=[], metavar="DIR",
+        p.add_argument("--library", action="append", default=[], metavar="DIR", type=_existing_dir,
                        help="extra directory of .mtlx definitions (repeatable)")
 
     p = sub.add_parser("golden", help="golden-image regression: check renders against golden_images/, or update them")
-    gsub = p.add_subparsers(dest="golden_command", required=True)
+    gsub = p.add_subparsers(dest="golden_command", metavar="{check,update}", required=True)
     g = gsub.add_parser("check", help="render and compare with the goldens; exit 1 on any difference")
     g.add_argument("paths", nargs="*", metavar="PATH",
                    help=".mtlx files, directories, or FILE.mtlx:ELEMENT (default: every golden in the index)")
-    g.add_argument("--goldens", default="golden_images", metavar="DIR",
+    g.add_argument("--goldens", default=None, metavar="DIR", type=_existing_dir,
                    help="golden directory (default: golden_images)")
-    g.add_argument("-o", "--output", default=os.path.join("out", "golden"), metavar="DIR",
-                   help="where new/golden/diff images, results.json and report.html go (default: out/golden)")
-    g.add_argument("--threshold", type=int, default=2, metavar="STEPS",
-                   help="8-bit sRGB steps a pixel may differ by (default: 2)")
-    g.add_argument("--max-fraction", type=float, default=0.0, metavar="F",
-                   help="share of pixels allowed over the threshold (default: 0)")
-    g.add_argument("--flip-limit", type=float, default=None, metavar="F",
-                   help="also fail when the mean FLIP error exceeds F (default: FLIP is reported only)")
+    g.add_argument("-o", "--output", default=os.path.join("out", "golden"), metavar="DIR", type=_output_dir,
+                   help="where results.json, report.html and the new/golden/diff images of failures go "
+                        "(default: out/golden)")
+    g.add_argument("--threshold", type=_int_in(0, 255), default=2, metavar="STEPS",
+                   help="8-bit sRGB steps a pixel may differ by, 0 to 255 (default: 2)")
+    g.add_argument("--max-fraction", type=_float_in(0.0, 1.0), default=0.0, metavar="F",
+                   help="share of pixels allowed over the threshold, 0 to 1 (default: 0)")
+    g.add_argument("--flip-limit", type=_float_in(0.0, 1.0), default=None, metavar="F",
+                   help="also fail when the mean FLIP error (0 to 1) exceeds F (default: FLIP is reported only)")
     g.add_argument("--no-flip", action="store_true", help="skip the FLIP score")
     g.add_argument("--timings", action="store_true", help="print per-material timings")
     g.add_argument("-v", "--verbose", action="store_true", help="list passing materials too")
@@ -242,18 +361,22 @@ def build_parser():
     g = gsub.add_parser("update", help="render and rewrite goldens (and their index entries)")
     g.add_argument("paths", nargs="*", metavar="PATH",
                    help=".mtlx files, directories, or FILE.mtlx:ELEMENT (default: every golden in the index)")
-    g.add_argument("--goldens", default="golden_images", metavar="DIR")
-    g.add_argument("--size", type=int, default=None, help="image size (default: what each golden recorded, else 128)")
-    g.add_argument("--env", metavar="FILE", help="lat-long HDR/EXR environment (default: recorded, else built-in sky)")
+    g.add_argument("--goldens", default="golden_images", metavar="DIR", type=_output_dir)
+    g.add_argument("--size", type=_int_in(1, MAX_SIZE), default=None, metavar="N",
+                   help="image size, 1 to %d (default: what each golden recorded, else 128)" % MAX_SIZE)
+    g.add_argument("--env", metavar="FILE", type=_readable_file,
+                   help="lat-long HDR/EXR environment (default: recorded, else built-in sky)")
     g.add_argument("-v", "--verbose", action="store_true", help="list unchanged goldens too")
     pool(g)
     g.set_defaults(func=cmd_golden_update)
 
     p = sub.add_parser("report", help="one self-contained HTML page from a golden check's output directory")
-    p.add_argument("dir", metavar="DIR", help="a `golden check` output directory (or a directory of .mtlx to check)")
-    p.add_argument("-o", "--output", metavar="FILE", help="HTML file (default: DIR/report.html)")
-    p.add_argument("--goldens", default="golden_images", metavar="DIR")
-    p.add_argument("--checks", default=os.path.join("out", "golden"), metavar="DIR",
+    p.add_argument("dir", metavar="DIR", type=_existing_dir,
+                   help="a `golden check` output directory (or a directory of .mtlx to check)")
+    p.add_argument("-o", "--output", metavar="FILE", type=_output_file, help="HTML file (default: DIR/report.html)")
+    p.add_argument("--goldens", default=None, metavar="DIR", type=_existing_dir,
+                   help="golden directory (default: golden_images)")
+    p.add_argument("--checks", default=os.path.join("out", "golden"), metavar="DIR", type=_output_dir,
                    help="where to check a directory of .mtlx first (default: out/golden)")
     pool(p)
     p.set_defaults(func=cmd_report)
@@ -261,17 +384,24 @@ def build_parser():
     p = sub.add_parser("batch", help="render every .mtlx under directories with all cores; print per-material timings")
     p.add_argument("paths", nargs="+", metavar="PATH",
                    help="directories (searched for .mtlx), .mtlx files, or FILE.mtlx:ELEMENT")
-    p.add_argument("-o", "--output", required=True, metavar="DIR")
-    p.add_argument("--size", type=int, default=128)
-    p.add_argument("--env", metavar="FILE", help="lat-long HDR/EXR environment (default: built-in sky)")
+    p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
+    p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=128, metavar="N",
+                   help="image size, 1 to %d (default: 128)" % MAX_SIZE)
+    p.add_argument("--env", metavar="FILE", type=_readable_file,
+                   help="lat-long HDR/EXR environment (default: built-in sky)")
     pool(p)
     p.set_defaults(func=cmd_batch)
     return ap
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
     try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as e:            # --help (0) or a usage error (1, already printed): a status, not an exception
+        return e.code
+    try:
+        if getattr(args, "file", None) is not None:
+            _check_document(args.file)
         return args.func(args)
     except MtlxError as e:
         return _report(e)
@@ -289,6 +419,10 @@ def main(argv=None):
     except Exception as e:     # a bug of ours: one line, the traceback only on request
         if os.environ.get("MTLXGEN_DEBUG"):
             raise
+        if isinstance(e, OSError) and e.filename:
+            # the file system refused (disk full, permissions changed since the options were checked)
+            print("%s:0: %s" % (e.filename, e.strerror or e), file=sys.stderr)
+            return 1
         print("%s: internal error: %s: %s (set MTLXGEN_DEBUG=1 for details)"
               % (getattr(args, "file", "mtlxgen"), type(e).__name__, e), file=sys.stderr)
         return 3

@@ -147,3 +147,157 @@ def test_output_piped_into_a_reader_that_stops_early_is_not_an_error():
                           shell=True, capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert proc.stdout.startswith(path) or "pbs_nodes.mtlx" in proc.stdout
     assert "internal error" not in proc.stderr and "Traceback" not in proc.stderr
+
+
+# ---------------------------------------------------------------- bad option values: one line, status 1
+
+@pytest.fixture
+def places(tmp_path):
+    """A valid document, a regular non-document file, a directory, a FIFO and a path that does not exist."""
+    doc = write_doc(tmp_path, """
+  <nodegraph name="g"><sin name="s" type="float" /><output name="out" type="float" nodename="s" /></nodegraph>""")
+    plain = tmp_path / "plain.txt"
+    plain.write_text("not a document\n")
+    folder = tmp_path / "folder"
+    folder.mkdir()
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    return {"doc": doc, "file": str(plain), "dir": str(folder), "fifo": str(fifo),
+            "missing": str(tmp_path / "missing"), "out": str(tmp_path / "new_out")}
+
+
+def run_main(capsys, argv):
+    from mtlxgen.cli import main
+    rc = main(argv)
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+def assert_usage_error(rc, err, *named):
+    """Status 1, exactly one line on stderr, naming each of `named`; no traceback, no internal error."""
+    assert rc == 1, (rc, err)
+    assert "Traceback" not in err and "internal error" not in err, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    for text in named:
+        assert text in lines[0], (text, lines[0])
+
+
+# (case id, argv with {doc} {file} {dir} {fifo} {missing} {out} filled in, texts the error line must name)
+BAD_OPTIONS = [
+    ("no-command", [], ["mtlxgen: error", "required"]),
+    ("unknown-command", ["frobnicate"], ["invalid choice", "frobnicate"]),
+    ("unknown-option", ["info", "{doc}", "--bogus"], ["unrecognized arguments", "--bogus"]),
+    ("generate-output-missing", ["generate", "{doc}"], ["mtlxgen generate: error", "-o/--output"]),
+    ("generate-output-existing-file", ["generate", "{doc}", "-o", "{file}"], ["-o/--output", "{file}",
+                                                                            "not a directory"]),
+    ("generate-output-below-a-file", ["generate", "{doc}", "-o", "{file}/sub"], ["-o/--output", "{file}/sub",
+                                                                               "not a directory"]),
+    ("generate-output-empty", ["generate", "{doc}", "-o", ""], ["-o/--output", "empty path"]),
+    ("generate-library-missing", ["generate", "{doc}", "-o", "{out}", "--library", "{missing}"],
+     ["--library", "{missing}", "no such directory"]),
+    ("generate-library-file", ["generate", "{doc}", "-o", "{out}", "--library", "{file}"],
+     ["--library", "{file}", "not a directory"]),
+    ("generate-element-empty", ["generate", "{doc}", "-o", "{out}", "--element", ""], ["--element", "empty"]),
+    ("generate-environment-unknown", ["generate", "{doc}", "-o", "{out}", "--environment", "bogus"],
+     ["--environment", "bogus", "fis"]),
+    ("render-size-zero", ["render", "{doc}", "-o", "{out}", "--size", "0"], ["--size", "0", "1 to 8192"]),
+    ("render-size-negative", ["render", "{doc}", "-o", "{out}", "--size", "-5"], ["--size", "-5", "1 to 8192"]),
+    ("render-size-huge", ["render", "{doc}", "-o", "{out}", "--size", "8193"], ["--size", "8193", "1 to 8192"]),
+    ("render-size-not-a-number", ["render", "{doc}", "-o", "{out}", "--size", "big"], ["--size", "big"]),
+    ("render-output-existing-file", ["render", "{doc}", "-o", "{file}"], ["-o/--output", "{file}"]),
+    ("render-element-empty", ["render", "{doc}", "-o", "{out}", "--element", " "], ["--element", "empty"]),
+    ("render-env-missing", ["render", "{doc}", "-o", "{out}", "--env", "{missing}"],
+     ["--env", "{missing}", "no such file"]),
+    ("render-env-directory", ["render", "{doc}", "-o", "{out}", "--env", "{dir}"], ["--env", "{dir}", "directory"]),
+    ("render-env-fifo", ["render", "{doc}", "-o", "{out}", "--env", "{fifo}"],
+     ["--env", "{fifo}", "not a regular file"]),
+    ("render-env-device", ["render", "{doc}", "-o", "{out}", "--env", "/dev/zero"],
+     ["--env", "/dev/zero", "not a regular file"]),
+    ("render-lights-missing", ["render", "{doc}", "-o", "{out}", "--lights", "{missing}"],
+     ["--lights", "{missing}", "no such file"]),
+    ("render-lights-directory", ["render", "{doc}", "-o", "{out}", "--lights", "{dir}"], ["--lights", "{dir}"]),
+    ("render-library-missing", ["render", "{doc}", "-o", "{out}", "--library", "{missing}"],
+     ["--library", "{missing}"]),
+    ("info-library-missing", ["info", "{doc}", "--library", "{missing}"], ["--library", "{missing}"]),
+    ("info-usd-rules-with-value", ["info", "{doc}", "--usd-seed-rules=yes"], ["--usd-seed-rules"]),
+    ("golden-no-subcommand", ["golden"], ["mtlxgen golden: error", "check,update"]),
+    ("golden-check-workers-zero", ["golden", "check", "-j", "0"], ["-j/--workers", "0", "1 to 256"]),
+    ("golden-check-workers-huge", ["golden", "check", "-j", "100000"], ["-j/--workers", "100000"]),
+    ("golden-check-workers-not-a-number", ["golden", "check", "-j", "all"], ["-j/--workers", "all"]),
+    ("golden-check-threshold-negative", ["golden", "check", "--threshold", "-1"], ["--threshold", "-1", "0 to 255"]),
+    ("golden-check-threshold-over-255", ["golden", "check", "--threshold", "256"], ["--threshold", "256"]),
+    ("golden-check-threshold-fraction", ["golden", "check", "--threshold", "1.5"], ["--threshold", "1.5"]),
+    ("golden-check-max-fraction-negative", ["golden", "check", "--max-fraction", "-0.1"],
+     ["--max-fraction", "-0.1", "0 to 1"]),
+    ("golden-check-max-fraction-over-one", ["golden", "check", "--max-fraction", "1.5"], ["--max-fraction", "1.5"]),
+    ("golden-check-max-fraction-nan", ["golden", "check", "--max-fraction", "nan"], ["--max-fraction", "nan"]),
+    ("golden-check-flip-limit-over-one", ["golden", "check", "--flip-limit", "2"], ["--flip-limit", "2"]),
+    ("golden-check-flip-limit-inf", ["golden", "check", "--flip-limit", "inf"], ["--flip-limit", "inf"]),
+    ("golden-check-goldens-missing", ["golden", "check", "--goldens", "{missing}"], ["--goldens", "{missing}"]),
+    ("golden-check-goldens-file", ["golden", "check", "--goldens", "{file}"], ["--goldens", "{file}"]),
+    ("golden-check-output-existing-file", ["golden", "check", "-o", "{file}"], ["-o/--output", "{file}"]),
+    ("golden-check-library-missing", ["golden", "check", "--library", "{missing}"], ["--library", "{missing}"]),
+    ("golden-update-size-zero", ["golden", "update", "--size", "0"], ["--size", "0"]),
+    ("golden-update-env-missing", ["golden", "update", "--env", "{missing}"], ["--env", "{missing}"]),
+    ("golden-update-goldens-existing-file", ["golden", "update", "--goldens", "{file}"], ["--goldens", "{file}"]),
+    ("golden-update-workers-negative", ["golden", "update", "-j", "-2"], ["-j/--workers", "-2"]),
+    ("report-dir-missing", ["report", "{missing}"], ["DIR", "{missing}", "no such directory"]),
+    ("report-dir-file", ["report", "{file}"], ["DIR", "{file}", "not a directory"]),
+    ("report-output-directory", ["report", "{dir}", "-o", "{dir}"], ["-o/--output", "{dir}"]),
+    ("report-output-below-a-file", ["report", "{dir}", "-o", "{file}/r.html"], ["-o/--output", "{file}/r.html"]),
+    ("report-checks-existing-file", ["report", "{dir}", "--checks", "{file}"], ["--checks", "{file}"]),
+    ("report-goldens-missing", ["report", "{dir}", "--goldens", "{missing}"], ["--goldens", "{missing}"]),
+    ("report-workers-zero", ["report", "{dir}", "-j", "0"], ["-j/--workers", "0"]),
+    ("batch-paths-missing", ["batch", "-o", "{out}"], ["mtlxgen batch: error", "PATH"]),
+    ("batch-size-zero", ["batch", "{dir}", "-o", "{out}", "--size", "0"], ["--size", "0"]),
+    ("batch-env-missing", ["batch", "{dir}", "-o", "{out}", "--env", "{missing}"], ["--env", "{missing}"]),
+    ("batch-output-existing-file", ["batch", "{dir}", "-o", "{file}"], ["-o/--output", "{file}"]),
+    ("batch-workers-zero", ["batch", "{dir}", "-o", "{out}", "-j", "0"], ["-j/--workers", "0"]),
+    ("batch-library-missing", ["batch", "{dir}", "-o", "{out}", "--library", "{missing}"], ["--library", "{missing}"]),
+]
+
+
+@pytest.mark.parametrize("argv,named", [pytest.param(a, n, id=i) for i, a, n in BAD_OPTIONS])
+def test_bad_option_is_one_line_and_status_1_before_any_work(argv, named, places, capsys):
+    fill = lambda s: s.format(**places)
+    rc, out, err = run_main(capsys, [fill(a) for a in argv])
+    assert_usage_error(rc, err, *[fill(n) for n in named])
+    assert not os.path.exists(places["out"]), "a refused command must not create its output directory"
+
+
+@pytest.mark.parametrize("what,problem", [("missing", "no such file"), ("dir", "is a directory"),
+                                          ("fifo", "not a regular file")])
+@pytest.mark.parametrize("command", ["generate", "render", "info"])
+def test_input_document_that_is_not_a_readable_file_is_a_file_error(command, what, problem, places, capsys):
+    argv = [command, places[what]] + (["-o", places["out"]] if command != "info" else [])
+    rc, out, err = run_main(capsys, argv)
+    assert_usage_error(rc, err, "%s:0: %s" % (places[what], problem))
+
+
+def test_unknown_element_names_the_document_and_the_element(places, capsys):
+    rc, out, err = run_main(capsys, ["generate", places["doc"], "-o", places["out"], "--element", "g/nope"])
+    assert_usage_error(rc, err, "%s:0:" % places["doc"], "'g/nope'")
+
+
+def test_help_still_exits_0(capsys):
+    for argv in (["--help"], ["render", "--help"], ["golden", "check", "--help"], ["batch", "--help"]):
+        rc, out, err = run_main(capsys, argv)
+        assert rc == 0 and out.startswith("usage: mtlxgen") and err == "", argv
+
+
+def test_bad_option_from_the_installed_command_line_exits_1_with_one_line(tmp_path):
+    proc = run_cli("render", os.path.join(ROOT, "examples", "quick_start.mtlx"), "-o", str(tmp_path / "o"),
+                   "--size", "0")
+    assert proc.returncode == 1
+    assert_one_line_error(proc, r"^mtlxgen render: error: argument --size: 0 is out of range")
+
+
+def test_good_options_at_their_limits_are_accepted(places, capsys):
+    rc, out, err = run_main(capsys, ["render", places["doc"], "-o", places["out"], "--size", "1"])
+    assert rc == 0, err
+    assert os.path.exists(os.path.join(places["out"], "g_out.png"))
+    nested = os.path.join(places["out"], "a", "b")           # -o may name directories yet to be made
+    rc, out, err = run_main(capsys, ["generate", places["doc"], "-o", nested, "--library", places["dir"]])
+    assert rc == 0, err
+    assert sorted(os.listdir(nested)) == ["g_out.frag", "g_out.json", "g_out.vert"]

@@ -60,7 +60,7 @@ def test_unknown_method_is_refused(tmp_path):
         pipeline.generate(path, ["m"], environment="bogus")
     r = subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), "generate", path, "-o", str(tmp_path / "o"),
                         "--environment", "bogus"], capture_output=True, text=True)
-    assert r.returncode == 2 and "invalid choice" in r.stderr and "Traceback" not in r.stderr
+    assert r.returncode == 1 and "invalid choice" in r.stderr and "Traceback" not in r.stderr
 
 
 def test_mirror_is_the_same_either_way(renderer, tmp_path):
