@@ -97,6 +97,12 @@ def unique_identifier(stem, taken):
     return name
 
 
+# Nodes of one scope are instantiated without recursion (GraphBuilder.instantiate); what still recurses
+# is one scope inside another (a nodegraph output read by another nodegraph, an implementation inside an
+# implementation), bounded here so that a document can never exhaust Python's stack.
+MAX_SCOPE_DEPTH = 64
+
+
 class _Scope:
     """A container of nodes being instantiated: the document, a document nodegraph, or an implementation."""
     _serial = 0
@@ -127,6 +133,7 @@ class GraphBuilder:
         self.used_ids = set()
         self.geom_memo = {}
         self.expanding = []           # nodedefs whose implementation graphs are being expanded
+        self.graph_path = []          # "graph.output" of document nodegraph outputs being resolved
 
     # ---------- names ----------
     def new_id(self, stem):
@@ -230,6 +237,20 @@ class GraphBuilder:
 
     def graph_output(self, g, out_port):
         """Source of a document nodegraph's output (its nodes instantiated in the graph's own scope)."""
+        key = "%s.%s" % (g.name, out_port.name)
+        if key in self.graph_path:        # nodegraphs reading each other's outputs (or their own)
+            cycle = self.graph_path[self.graph_path.index(key):] + [key]
+            raise MtlxError((out_port.loc, "cycle: nodegraph outputs %s" % " -> ".join("'%s'" % c for c in cycle)))
+        if len(self.graph_path) >= MAX_SCOPE_DEPTH:
+            raise MtlxError((out_port.loc, "nodegraph outputs read each other more than %d deep (from '%s')"
+                             % (MAX_SCOPE_DEPTH, self.graph_path[0])))
+        self.graph_path.append(key)
+        try:
+            return self._graph_output(g, out_port)
+        finally:
+            self.graph_path.pop()
+
+    def _graph_output(self, g, out_port):
         scope = self.doc_graph_scope(g)
         src = self.source_of_port(out_port, scope, out_port.type, g.name)
         if src is None:
@@ -242,23 +263,32 @@ class GraphBuilder:
     def doc_graph_scope(self, g):
         key = ("graph", g.name)
         if key not in self.memo:
-            interface = {}
-            nd = self.lib.nodedefs.get(g.nodedef) if g.nodedef else None
-            for inp in (nd.inputs.values() if nd else ()):      # an implementation drawn on its own
-                if inp.name not in g.inputs:
-                    if inp.defaultgeomprop and inp.value is None:
-                        interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)
-                    else:
-                        interface[inp.name] = self.public_value(g.name, inp, inp)
-            for inp in g.inputs.values():
-                if inp.nodename or inp.nodegraph:
-                    interface[inp.name] = self.source_of_port(inp, self.doc_scope, inp.type, g.name)
-                elif inp.defaultgeomprop and inp.value is None:
+            if key in self.active:
+                raise MtlxError((g.loc, "cycle: an input of nodegraph '%s' reads the nodegraph's own output" % g.name))
+            self.active.add(key)
+            try:
+                self.memo[key] = self._doc_graph_scope(g)
+            finally:
+                self.active.discard(key)
+        return self.memo[key]
+
+    def _doc_graph_scope(self, g):
+        interface = {}
+        nd = self.lib.nodedefs.get(g.nodedef) if g.nodedef else None
+        for inp in (nd.inputs.values() if nd else ()):      # an implementation drawn on its own
+            if inp.name not in g.inputs:
+                if inp.defaultgeomprop and inp.value is None:
                     interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)
                 else:
                     interface[inp.name] = self.public_value(g.name, inp, inp)
-            self.memo[key] = _Scope(g.nodes, g.name + "/", interface, True, g, self.doc_scope, g.loc)
-        return self.memo[key]
+        for inp in g.inputs.values():
+            if inp.nodename or inp.nodegraph:
+                interface[inp.name] = self.source_of_port(inp, self.doc_scope, inp.type, g.name)
+            elif inp.defaultgeomprop and inp.value is None:
+                interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)
+            else:
+                interface[inp.name] = self.public_value(g.name, inp, inp)
+        return _Scope(g.nodes, g.name + "/", interface, True, g, self.doc_scope, g.loc)
 
     def public_value(self, owner, port, declared):
         """An unconnected input at document level: a public uniform initialised with its value."""
@@ -273,6 +303,15 @@ class GraphBuilder:
                                 colorspace if t == "filename" else None)
         return Source(t, value=value, uniform=name, colorspace=colorspace if t == "filename" else None,
                       unit=port.unit or declared.unit, unittype=port.unittype or declared.unittype, loc=port.loc)
+
+    @staticmethod
+    def check_enum(decl, src, port, node):
+        """A string input whose nodedef lists its values (`enum`) must hold one of them: the emitter turns
+        the value into code, so anything else would be an undeclared identifier in the shader."""
+        allowed = [v.strip() for v in (decl.enum or "").split(",") if v.strip()]
+        if allowed and src.value not in allowed and src.value not in ("", None):
+            raise MtlxError((port.loc, "input '%s' of node '%s' is '%s', not one of its nodedef's values (%s)"
+                             % (decl.name, node.name, src.value, ", ".join(allowed))))
 
     def check_type(self, port, src, what):
         if src.type != port.type:
@@ -307,20 +346,55 @@ class GraphBuilder:
         return src
 
     def instantiate(self, node, scope):
+        """Outputs of `node` in `scope` ({output: Source}).
+
+        Without recursion per node: _instantiate is a generator that yields each node of its own scope
+        it reads before that node is built; this loop builds it on an explicit stack and resumes the
+        reader, so the order of everything created (ids, uniforms) is that of a depth-first recursion,
+        while a chain of any length takes no Python stack. Recursion is left only across scopes (a
+        nodegraph output read by another, an implementation inside an implementation), bounded by
+        MAX_SCOPE_DEPTH."""
         key = (scope.key, node.name)
         if key in self.memo:
             return self.memo[key]
         if key in self.active:
             raise MtlxError((node.loc, "cycle: node '%s' depends on itself" % node.name))
+        stack = [(node, self._instantiate(node, scope))]
         self.active.add(key)
         try:
-            outs = self._instantiate(node, scope)
+            while stack:
+                current, steps = stack[-1]
+                try:
+                    port, dep = next(steps)
+                except StopIteration as done:
+                    stack.pop()
+                    self.active.discard((scope.key, current.name))
+                    self.memo[(scope.key, current.name)] = done.value
+                    continue
+                dkey = (scope.key, dep.name)
+                if dkey in self.memo:
+                    continue
+                if dkey in self.active:
+                    path = [n.name for n, _ in stack]
+                    cycle = path[path.index(dep.name):] if dep.name in path else path
+                    raise MtlxError((port.loc, "cycle: %s" % " -> ".join("'%s'" % n for n in cycle + [dep.name])))
+                self.active.add(dkey)
+                stack.append((dep, self._instantiate(dep, scope)))
         finally:
-            self.active.discard(key)
-        self.memo[key] = outs
-        return outs
+            for n, _ in stack:
+                self.active.discard((scope.key, n.name))
+        return self.memo[key]
+
+    def _unbuilt_dependency(self, port, scope):
+        """The node of `scope` that `port` reads when it is not built yet (source_of_port's rules:
+        an interfacename binding wins over a nodename), else None."""
+        if port.interfacename or not port.nodename or (port.error and not port.connected):
+            return None
+        dep = scope.nodes.get(port.nodename)
+        return dep if dep is not None and (scope.key, dep.name) not in self.memo else None
 
     def _instantiate(self, node, scope):
+        """Generator: yields (port, node) for each same-scope node to build first; returns the outputs."""
         nd = self.nodedef_for(node)
         for name, port in node.inputs.items():
             if name not in nd.inputs:
@@ -336,6 +410,9 @@ class GraphBuilder:
                 if port.type != decl.type:
                     raise MtlxError((port.loc, "input '%s' of node '%s' has type %s; %s expects %s"
                                      % (name, node.name, port.type, nd.name, decl.type)))
+                dep = self._unbuilt_dependency(port, scope)
+                if dep is not None:
+                    yield port, dep                 # instantiate() builds it, then resumes here
                 src = self.source_of_port(port, scope, decl.type, node.name)
                 if src is not None:
                     self.check_type(port, src, "input '%s' of node '%s'" % (name, node.name))
@@ -358,12 +435,16 @@ class GraphBuilder:
                                  unit=p.unit or decl.unit, unittype=p.unittype or decl.unittype)
             if decl.type in ("string", "geomname") and not src.linked:
                 static[name] = src.value
+                self.check_enum(decl, src, port or decl, node)
             inputs[name] = src
         impl_graph = self.lib.graph_impls.get(nd.name)
         if impl_graph is not None and not self._has_leaf_impl(nd):
             if nd.name in self.expanding:
                 raise MtlxError((impl_graph.loc, "nodegraph '%s' implements %s and uses it inside itself"
                                  % (impl_graph.name, nd.name)))
+            if len(self.expanding) >= MAX_SCOPE_DEPTH:
+                raise MtlxError((node.loc, "nodegraph implementations nest more than %d deep (from %s)"
+                                 % (MAX_SCOPE_DEPTH, self.expanding[0])))
             self.expanding.append(nd.name)
             try:
                 return self._expand(node, nd, impl_graph, inputs, stem, scope)
