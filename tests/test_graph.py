@@ -105,7 +105,7 @@ def test_unused_nodes_are_pruned(tmp_path, library):
 @pytest.mark.parametrize("body,message", [
     ("""<add name="a" type="float"><input name="in1" type="float" nodename="b" /></add>
         <add name="b" type="float"><input name="in1" type="float" nodename="a" /></add>
-        <output name="o" type="float" nodename="a" />""", r"doc\.mtlx:\d+: cycle: node '(a|b)' depends on itself"),
+        <output name="o" type="float" nodename="a" />""", r"doc\.mtlx:\d+: cycle: '(a|b)' -> '(a|b)' -> '(a|b)'"),
     ("""<frobnicate name="f" type="float" /><output name="o" type="float" nodename="f" />""",
      r"doc\.mtlx:3: unknown node category 'frobnicate'"),
     ("""<constant name="c" type="color3"><input name="value" type="color3" value="1,0,0" /></constant>
@@ -145,6 +145,7 @@ def test_renderable_elements_follow_materialx_precedence(tmp_path):
     assert graph.renderable_elements(document.load(path)) == ["shader"]
 
 
+@pytest.mark.corpus
 def test_renderable_elements_match_materialx_on_the_corpus(reference):
     import glob
     import os
