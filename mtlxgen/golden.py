@@ -291,6 +291,15 @@ def targets(index, paths=None, library_dirs=()):
     return out
 
 
+def _nothing_to_do(index, paths, verb):
+    """Checking (or updating) nothing is a mistake, not a pass: say where we looked."""
+    if paths:
+        return MtlxError((Loc(paths[0], 0), "nothing to %s: no .mtlx file with a renderable element in %s" % (verb, ", ".join(paths))))
+    return MtlxError((Loc(index.path, 0), "nothing to %s: %s; run in the project directory, or give --goldens DIR "
+                      "or the .mtlx PATHS" % (verb, "the index lists no goldens" if os.path.exists(index.path)
+                                              else "no golden index here")))
+
+
 def _jobs(tgts, settings_for):
     """Group targets into batch jobs (one per file and settings)."""
     groups = {}
@@ -327,10 +336,14 @@ def _result(t, index, status, message=(), metrics=None, timings=None, files=None
 
 def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tolerance(), workers=None,
           progress=None, flip=True, library_dirs=()):
-    """Render and compare. Writes, per material, NAME.new.png, NAME.golden.png, NAME.diff.png (and
-    NAME.flip.png, NAME.new.exr where they apply) side by side in out_dir, plus results.json."""
+    """Render and compare. Writes results.json to out_dir and, per material that does not pass,
+    NAME.new.png, NAME.golden.png, NAME.diff.png (and NAME.flip.png, NAME.new.exr where they apply)
+    side by side; a passing material leaves no images (stale ones from an earlier run are removed).
+    Raises MtlxError when there is nothing to check."""
     index = Index(golden_dir)
     tgts = targets(index, paths, library_dirs)
+    if not tgts:
+        raise _nothing_to_do(index, paths, "check")
     notes = []
     if flip:
         mod, why = flip_module()
@@ -381,6 +394,10 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
         metrics, d, flip_heat = measure(it.image, golden8, golden_exr, tol, flip)
         passes, why = verdict(metrics, tol)
         passes = passes and not message
+        if passes:
+            _remove_stale(out_dir, t.name)
+            results.append(_result(t, index, "pass", (), metrics, it.timings, {}, settings))
+            continue
         write_image(os.path.join(out_dir, files["new"]), to_srgb8(it.image))
         if golden_exr is not None or is_hdr(it.image):
             files["new_exr"] = t.name + ".new.exr"
@@ -393,8 +410,7 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
         if flip_heat is not None:
             files["flip"] = t.name + ".flip.png"
             write_image(os.path.join(out_dir, files["flip"]), flip_heat)
-        results.append(_result(t, index, "pass" if passes else "fail", message + why, metrics, it.timings,
-                               files, settings))
+        results.append(_result(t, index, "fail", message + why, metrics, it.timings, files, settings))
     for new_gl, old_gl in sorted(renderers):
         notes.append("goldens were made with the GL renderer '%s', this run used '%s': small differences "
                      "are expected across drivers" % (old_gl, new_gl))
@@ -404,6 +420,14 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
                   f, indent=1, sort_keys=True)
         f.write("\n")
     return run
+
+
+def _remove_stale(out_dir, name):
+    """A passing material's images from an earlier failing run would sit beside the new report, unexplained."""
+    for suffix in (".new.png", ".new.exr", ".golden.png", ".diff.png", ".flip.png"):
+        path = os.path.join(out_dir, name + suffix)
+        if os.path.isfile(path):
+            os.remove(path)
 
 
 def _scene_changed(recorded):
@@ -419,9 +443,12 @@ def _scene_changed(recorded):
 def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, progress=None, library_dirs=()):
     """Render and (re)write goldens. `settings` (RenderSettings) overrides what each golden recorded;
     new goldens get RenderSettings() by default. Returns [(name, status, message lines)] with status
-    created, updated, unchanged or error; the index is saved once at the end."""
+    created, updated, unchanged or error; the index is saved once at the end. Raises MtlxError when
+    there is nothing to update."""
     index = Index(golden_dir)
     tgts = targets(index, paths, library_dirs)
+    if not tgts:
+        raise _nothing_to_do(index, paths, "update")
 
     def settings_for(t):
         if settings is not None:

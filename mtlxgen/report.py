@@ -1,7 +1,8 @@
 """One self-contained HTML page from a golden check's output directory (results.json + images).
 
-Per material: the golden, the new render, the diff heat map and the FLIP map where there is one, all
-embedded as base64 PNG; its metric values and why it failed; materials sorted worst first (errors,
+Per material that did not pass: the golden, the new render, the diff heat map and the FLIP map where
+there is one, all embedded as base64 PNG, and why it failed; per material its metric values (a
+passing material has no images: `golden check` keeps images of failures only); materials sorted worst first (errors,
 failures by failing-pixel fraction, FLIP and mean difference, then missing goldens, then passes).
 No external resources: the file can be attached to a CI run and opened anywhere.
 """
@@ -27,6 +28,7 @@ section.missing { border-left-color: #e90; }
 h2 { font-size: 16px; margin: 0; }
 .badge { font-size: 12px; padding: 1px 6px; border-radius: 3px; color: #fff; background: #4a4; margin-right: 6px; }
 .badge.fail, .badge.error { background: #d33; } .badge.missing { background: #e90; }
+.passed { color: #4a4; margin: 2px 0; }
 .src { color: #666; margin: 2px 0 8px; font-family: monospace; }
 .why { color: #b00; margin: 4px 0 8px; padding-left: 18px; font-family: monospace; white-space: pre-wrap; }
 .images { display: flex; gap: 12px; flex-wrap: wrap; }
@@ -50,6 +52,8 @@ window.addEventListener('load', function () {
   });
   document.body.setAttribute('data-materials', String(sections.length));
   document.body.setAttribute('data-materials-with-image', String(shown));
+  document.body.setAttribute('data-not-passing',
+    String(document.querySelectorAll('section.material:not(.pass)').length));
 });
 """
 
@@ -120,6 +124,8 @@ def render_html(data, out_dir, title="mtlxgen golden check"):
         parts.append('<p class="src">%s : %s</p>' % (esc(r["source"]), esc(r["element"])))
         if r.get("message"):
             parts.append('<ul class="why">%s</ul>' % "".join("<li>%s</li>" % esc(line) for line in r["message"]))
+        if status == "pass":
+            parts.append('<p class="passed">within tolerance; no images kept for passing materials</p>')
         figures = []
         for key, caption in IMAGES:
             name = (r.get("files") or {}).get(key)
@@ -127,10 +133,11 @@ def render_html(data, out_dir, title="mtlxgen golden check"):
                 figures.append('<figure><img class="%s" alt="%s: %s" src="%s"><figcaption>%s</figcaption></figure>'
                                % (key, esc(caption), esc(r["name"]), _data_uri(os.path.join(out_dir, name)),
                                   esc(caption)))
-        if not figures:
+        if not figures and status != "pass":
             figures.append('<figure><div class="placeholder">%s</div><figcaption>&nbsp;</figcaption></figure>'
                            % ("no golden yet" if status == "missing" else "not rendered"))
-        parts.append('<div class="images">%s</div>' % "".join(figures))
+        if figures:
+            parts.append('<div class="images">%s</div>' % "".join(figures))
         rows = _metric_rows(r)
         if rows:
             parts.append('<table class="metrics">%s</table>' % "".join(

@@ -18,6 +18,7 @@ from util import FAILURES, assert_parity_with_materialx
 
 from mtlxgen import batch, golden, images, report
 from mtlxgen.batch import RenderSettings
+from mtlxgen.diagnostics import MtlxError
 
 GOLDEN_DIR = os.path.join(ROOT, "golden_images")
 EXAMPLES = os.path.join(ROOT, "examples")
@@ -122,6 +123,51 @@ def test_unchanged_goldens_pass(project, tmp_path):
     assert all(r["metrics"]["max"] == 0 and r["metrics"]["flip"] == 0.0 for r in run.results)
 
 
+def test_passing_materials_leave_no_images(project, tmp_path):
+    out = tmp_path / "out"
+    run = golden.check(None, str(project / "golden_images"), str(out), workers=1, progress=False)
+    assert run.ok and len(run.results) == 2, _keep_failure(run)
+    assert os.listdir(out) == ["results.json"]
+    assert all(r["files"] == {} for r in run.results)
+
+
+def test_images_of_an_earlier_failure_are_removed_when_it_passes(project, tmp_path):
+    gdir, _ = _one_pixel_changed(project)
+    out = str(tmp_path / "out")
+    failed = golden.check(None, gdir, out, workers=1, progress=False)
+    bad = [r for r in failed.results if r["status"] == "fail"]
+    assert len(bad) == 1 and all(os.path.exists(os.path.join(out, f)) for f in bad[0]["files"].values())
+    passed = golden.check(None, str(project / "golden_images"), out, workers=1, progress=False)
+    assert passed.ok, _keep_failure(passed)
+    assert os.listdir(out) == ["results.json"]
+
+
+def test_check_outside_the_project_is_an_error_saying_where_it_looked(tmp_path, monkeypatch, capsys):
+    from mtlxgen.cli import main
+    monkeypatch.chdir(tmp_path)
+    assert main(["golden", "check", "--no-progress"]) == 1
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1, captured.err
+    assert lines[0].startswith(str(tmp_path / "golden_images" / "index.json") + ":0: nothing to check"), lines[0]
+    assert "0 passed" not in captured.out
+    assert not (tmp_path / "out").exists(), "checking nothing must write nothing"
+
+
+def test_check_of_an_empty_index_or_a_folder_without_materials_is_an_error(project, tmp_path):
+    empty = tmp_path / "goldens"
+    empty.mkdir()
+    (empty / "index.json").write_text('{"version": 1, "goldens": {}}\n')
+    with pytest.raises(MtlxError, match=r"index\.json:0: nothing to check: the index lists no goldens"):
+        golden.check(None, str(empty), str(tmp_path / "out"), workers=1, progress=False)
+    folder = tmp_path / "no_materials"
+    folder.mkdir()
+    with pytest.raises(MtlxError, match=r"no_materials:0: nothing to check: no \.mtlx file"):
+        golden.check([str(folder)], str(project / "golden_images"), str(tmp_path / "out"), workers=1, progress=False)
+    with pytest.raises(MtlxError, match=r"nothing to update"):
+        golden.update(None, str(empty), workers=1, progress=False)
+
+
 def test_one_pixel_colour_change_is_caught(project, tmp_path):
     gdir, (y, x) = _one_pixel_changed(project)
     run = golden.check(None, gdir, str(tmp_path), workers=1, progress=False)
@@ -213,6 +259,9 @@ def test_cli_check_prints_where_the_images_are(project, tmp_path, capsys):
     assert os.path.exists(os.path.join(out, "report.html"))
     assert main(["golden", "check", "--goldens", str(project / "golden_images"), "-o", out, "-j", "1",
                  "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert "2 passed, 0 failed" in text and "images of failures" not in text      # none were written
+    assert sorted(os.listdir(out)) == ["report.html", "results.json"]
 
 
 # ---------------------------------------------------------------- determinism
@@ -310,8 +359,21 @@ def test_report_is_self_contained_and_sorted(report_run):
     assert [name for _, name in sections] == ["unlit_checker__M_checker", "unlit_hdr_rim__M_hdr_rim"]
     assert sections[0][0] == "fail"
     assert not re.search(r'(src|href)="(?!data:)', text), "the report must not reference external files"
-    for body in text.split('<section class="material')[1:]:
-        assert len(re.findall(r'<img class="(?:golden|new|diff)"[^>]*src="data:image/png;base64,', body)) == 3
+    for status, body in zip([s for s, _ in sections], text.split('<section class="material')[1:]):
+        shown = len(re.findall(r'<img class="(?:golden|new|diff)"[^>]*src="data:image/png;base64,', body))
+        assert shown == (0 if status == "pass" else 3), (status, shown)      # passes keep no images
+
+
+def test_report_when_everything_passed_lists_them_without_images(project, tmp_path):
+    out = str(tmp_path / "out")
+    run = golden.check(None, str(project / "golden_images"), out, workers=1, progress=False)
+    assert run.ok, _keep_failure(run)
+    with open(report.write_report(out), encoding="utf-8") as f:
+        text = f.read()
+    assert '<span class="count-pass">2 pass</span>' in text and '<span class="count-fail">0 fail</span>' in text
+    assert re.findall(r'<section class="material (\w+)"', text) == ["pass", "pass"]
+    assert "<img" not in text and "not rendered" not in text
+    assert "FLIP (mean)" in text and "failing pixels" in text                # the metrics are still there
 
 
 def test_report_opens_in_headless_chromium(report_run, tmp_path):
@@ -329,9 +391,12 @@ def test_report_opens_in_headless_chromium(report_run, tmp_path):
     body = re.search(r"<body([^>]*)>", dom.stdout)
     assert body, dom.stdout[:500]
     n = len(run.results)
+    failing = sum(r["status"] != "pass" for r in run.results)
+    assert n == 2 and failing == 1
     assert 'data-materials="%d"' % n in body.group(1), body.group(1)
-    assert 'data-materials-with-image="%d"' % n in body.group(1), body.group(1)
-    assert dom.stdout.count('data-image-shown="yes"') == n
+    assert 'data-not-passing="%d"' % failing in body.group(1), body.group(1)
+    assert 'data-materials-with-image="%d"' % failing in body.group(1), body.group(1)   # every failure's images load
+    assert dom.stdout.count('data-image-shown="yes"') == failing
     shot = tmp_path / "report.png"
     subprocess.run(args + ["--screenshot=%s" % shot, url], capture_output=True, timeout=120)
     assert shot.exists() and shot.stat().st_size > 10000
