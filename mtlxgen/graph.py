@@ -305,13 +305,13 @@ class GraphBuilder:
                       unit=port.unit or declared.unit, unittype=port.unittype or declared.unittype, loc=port.loc)
 
     @staticmethod
-    def check_enum(decl, src, port, node):
+    def check_enum(decl, src, port, node, nd):
         """A string input whose nodedef lists its values (`enum`) must hold one of them: the emitter turns
         the value into code, so anything else would be an undeclared identifier in the shader."""
         allowed = [v.strip() for v in (decl.enum or "").split(",") if v.strip()]
         if allowed and src.value not in allowed and src.value not in ("", None):
-            raise MtlxError((port.loc, "input '%s' of node '%s' is '%s', not one of its nodedef's values (%s)"
-                             % (decl.name, node.name, src.value, ", ".join(allowed))))
+            raise MtlxError((port.loc, "node '%s' (%s): %s '%s' is not one of %s"
+                             % (node.name, nd.name, decl.name, src.value, ", ".join(allowed))))
 
     def check_type(self, port, src, what):
         if src.type != port.type:
@@ -435,7 +435,7 @@ class GraphBuilder:
                                  unit=p.unit or decl.unit, unittype=p.unittype or decl.unittype)
             if decl.type in ("string", "geomname") and not src.linked:
                 static[name] = src.value
-                self.check_enum(decl, src, port or decl, node)
+                self.check_enum(decl, src, port or decl, node, nd)
             inputs[name] = src
         impl_graph = self.lib.graph_impls.get(nd.name)
         if impl_graph is not None and not self._has_leaf_impl(nd):
