@@ -107,7 +107,9 @@ def _output_dir(text):
 
 
 def _output_file(text):
-    if not text or text.endswith(os.sep) or os.path.isdir(text):
+    if not text:
+        raise _bad(text, "not a file name")
+    if text.endswith(os.sep) or os.path.isdir(text):
         raise _bad(text, "is a directory, not a file name")
     if os.path.lexists(text) and not os.path.isfile(text):
         raise _bad(text, "exists and is not a regular file")

@@ -246,6 +246,7 @@ BAD_OPTIONS = [
     ("report-dir-file", ["report", "{file}"], ["DIR", "{file}", "not a directory"]),
     ("report-output-directory", ["report", "{dir}", "-o", "{dir}"], ["-o/--output", "{dir}"]),
     ("report-output-below-a-file", ["report", "{dir}", "-o", "{file}/r.html"], ["-o/--output", "{file}/r.html"]),
+    ("report-output-empty", ["report", "{dir}", "-o", ""], ["-o/--output", "empty path", "not a file name"]),
     ("report-checks-existing-file", ["report", "{dir}", "--checks", "{file}"], ["--checks", "{file}"]),
     ("report-goldens-missing", ["report", "{dir}", "--goldens", "{missing}"], ["--goldens", "{missing}"]),
     ("report-workers-zero", ["report", "{dir}", "-j", "0"], ["-j/--workers", "0"]),
