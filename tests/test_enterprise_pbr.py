@@ -5,6 +5,7 @@ of the BSDF evaluated in a fragment shader for swapped (l, v) on a grid; the ene
 Carlo; and what the main parameters do."""
 import json
 import os
+import re
 import sys
 import xml.etree.ElementTree as ET
 
@@ -15,6 +16,7 @@ from mtlxgen import images, pipeline
 from mtlxgen.emit import read_lib_file
 from mtlxgen import render
 from mtlxgen.render import Renderer, create_context, load_environment
+from readme_tables import readme_text, table_differences, table_rows
 from util import write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -64,9 +66,6 @@ def sphere(img):
 
 
 # ---------------------------------------------------------------- white furnace
-
-FURNACE_RESULTS = {}
-
 
 class UniformRig:
     """One compiled shader drawn in the render harness's scene (render.Renderer's sphere, camera and
@@ -130,13 +129,28 @@ def test_uniform_rig_draws_what_the_renderer_draws(furnace, furnace_rig, tmp_pat
     assert np.abs(a - b).max() < 1e-5
 
 
-@pytest.mark.parametrize("name,inputs", FURNACE, ids=[n for n, _ in FURNACE])
-def test_white_furnace_renders_one(furnace_rig, name, inputs):
+@pytest.fixture(scope="module")
+def furnace_figures(furnace_rig):
+    """figures(name) -> {roughness: (mean, pixel min, pixel max)} of one FURNACE configuration on the sphere,
+    measured once per module: the parametrized tests and the README table share them (also under pytest -n,
+    where each worker measures what it needs)."""
+    inputs, done = dict(FURNACE), {}
+
+    def figures(name):
+        if name not in done:
+            out = {}
+            for r in ROUGHNESS:
+                px = sphere(furnace_rig.render(**dict(inputs[name], roughness=r)))
+                out[r] = (float(px.mean()), float(px.min()), float(px.max()))
+            done[name] = out
+        return done[name]
+    return figures
+
+
+@pytest.mark.parametrize("name", [n for n, _ in FURNACE])
+def test_white_furnace_renders_one(furnace_figures, name):
     """Mean sphere radiance within 1% of 1 and no pixel above 1.01, at every roughness."""
-    for r in ROUGHNESS:
-        px = sphere(furnace_rig.render(**dict(inputs, roughness=r)))
-        mean, top = float(px.mean()), float(px.max())
-        FURNACE_RESULTS[(name, r)] = (mean, float(px.min()), top)
+    for r, (mean, _, top) in furnace_figures(name).items():
         assert abs(mean - 1.0) <= 0.01, (name, r, mean)
         assert top <= 1.01, (name, r, top)
 
@@ -252,6 +266,7 @@ void main()
     o = vec4(%s);
 }
 """ % (lib, DEFAULTS, setup, result)
+        ctx.__enter__()         # this context current again: a Renderer's may have been made current since
         if fragment not in programs:
             programs[fragment] = ctx.program(vertex_shader=VERTEX, fragment_shader=fragment)
         prog = programs[fragment]
@@ -277,18 +292,30 @@ void main()
     ctx.release()
 
 
-RECIPROCITY_RESULTS = {}
+RECIPROCITY_LIMIT = 1e-3
+
+
+@pytest.fixture(scope="module")
+def reciprocity_figures(bsdf_eval):
+    """figures(name) -> (f(l, v), relative |f(l, v) - f(v, l)|) on the grid for one RECIPROCITY configuration,
+    evaluated once per module (shared by the parametrized test and the README figures)."""
+    done = {}
+
+    def figures(name):
+        if name not in done:
+            a, b = bsdf_eval(sorted(RECIPROCITY).index(name))
+            done[name] = (a, np.abs(a - b) / np.maximum(np.maximum(a, b), 1e-6))
+        return done[name]
+    return figures
 
 
 @pytest.mark.parametrize("name", sorted(RECIPROCITY))
-def test_bsdf_is_reciprocal(bsdf_eval, name):
+def test_bsdf_is_reciprocal(reciprocity_figures, name):
     """|f(l, v) - f(v, l)| <= 1e-3 relative on a grid of direction pairs."""
-    a, b = bsdf_eval(sorted(RECIPROCITY).index(name))
+    a, rel = reciprocity_figures(name)
     assert np.isfinite(a).all() and (a >= 0).all()
     assert a.max() > 0.01
-    rel = np.abs(a - b) / np.maximum(np.maximum(a, b), 1e-6)
-    RECIPROCITY_RESULTS[name] = float(rel.max())
-    assert rel.max() <= 1e-3, (name, rel.max(), np.unravel_index(rel.argmax(), rel.shape))
+    assert rel.max() <= RECIPROCITY_LIMIT, (name, rel.max(), np.unravel_index(rel.argmax(), rel.shape))
 
 
 # ---------------------------------------------------------------- the tables
@@ -382,16 +409,55 @@ def test_attenuation_darkens_solid_glass_by_beer_lambert(furnace_rig):
     assert amber[0] > amber[1] > amber[2] and amber[2] < 0.5
 
 
-def test_worst_figures_summary():
-    """Prints the furnace and reciprocity worst figures (README "Enterprise PBR") when run with -s."""
-    if FURNACE_RESULTS:
-        print("\n| configuration | mean min | mean max | pixel max |")
-        print("|---|---|---|---|")
-        for name, _ in FURNACE:
-            rows = [v for (n, _), v in FURNACE_RESULTS.items() if n == name]
-            if rows:
-                print("| %s | %.4f | %.4f | %.4f |" % (name, min(r[0] for r in rows), max(r[0] for r in rows),
-                                                      max(r[2] for r in rows)))
-    if RECIPROCITY_RESULTS:
-        print("reciprocity worst relative |f(l,v) - f(v,l)|:",
-              ", ".join("%s %.1e" % kv for kv in sorted(RECIPROCITY_RESULTS.items())))
+# README's "Enterprise PBR" furnace table: its rows, each the FURNACE configurations it sums up
+README_ROWS = [
+    ("dielectric ior 1.5 / 2.5", ["dielectric_ior1.5", "dielectric_ior2.5"]),
+    ("dielectric f0 0.5 (ior 5.83)", ["dielectric_f0_0.5"]),
+    ("dielectric f0 1 (ior 1e5), white metal", ["dielectric_f0_1", "metal"]),
+    ("translucent 0.5, anisotropic 0.8", ["translucent_ior1.5", "anisotropic_ior1.5"]),
+    ("glass thin-walled / solid", ["glass_thin_ior1.5", "glass_solid_ior1.33"]),
+]
+README_TOL = 5e-4       # the furnace figures within 5 steps of their 4th decimal (drivers round differently)
+
+
+def furnace_table(furnace_figures):
+    lines = ["| configuration | mean min | mean max | pixel max |", "|---|---|---|---|"]
+    for label, names in README_ROWS:
+        figs = [f for n in names for f in furnace_figures(n).values()]
+        lines.append("| %s | %.4f | %.4f | %.4f |" % (label, min(f[0] for f in figs), max(f[0] for f in figs),
+                                                      max(f[2] for f in figs)))
+    return "\n".join(lines)
+
+
+def test_furnace_and_reciprocity_figures_are_the_readmes(furnace_figures, reciprocity_figures, capsys):
+    """README's "Enterprise PBR" figures are what the tests measure: the furnace table (printed with -s) within
+    README_TOL, over README's roughness set and every configuration; the reciprocity sentence's pair count,
+    configuration count, limit, and worst figure (float noise: within a factor of 10, and under the limit)."""
+    assert sorted(n for _, names in README_ROWS for n in names) == sorted(n for n, _ in FURNACE)
+    table = furnace_table(furnace_figures)
+    worst = max(float(reciprocity_figures(n)[1].max()) for n in RECIPROCITY)
+    with capsys.disabled():
+        print("\n" + table + "\nreciprocity: worst relative |f(l,v) - f(v,l)| %.1e over %d configurations"
+              % (worst, len(RECIPROCITY)))
+    text = readme_text()
+    section = text[text.index("## Enterprise PBR"):]
+    section = section[:section.index("\n## ", 1)]
+    bad = table_differences(table_rows(table, "| configuration |"), table_rows(section, "| configuration |"),
+                            lambda col, ours, theirs: abs(ours - theirs) <= README_TOL)
+    rough = re.search(r"mean sphere radiance over roughness \{([^}]*)\}", section)
+    if not rough or [float(v) for v in rough.group(1).split(",")] != ROUGHNESS:
+        bad.append("README's roughness set %s is not the tests' %s" % (rough and rough.group(1), ROUGHNESS))
+    rec = re.search(r"on (\d+) pairs.*?over (.*?): ([0-9.]+e-\d+) \(limit ([0-9.e-]+)\)", section, re.S)
+    if not rec:
+        bad.append("README's reciprocity sentence is not found")
+    else:
+        pairs, names, figure, limit = int(rec.group(1)), rec.group(2).split(","), float(rec.group(3)), float(rec.group(4))
+        if pairs != GRID * GRID:
+            bad.append("README says %d pairs, the test evaluates %d" % (pairs, GRID * GRID))
+        if len(names) != len(RECIPROCITY):
+            bad.append("README lists %d configurations, the test has %d" % (len(names), len(RECIPROCITY)))
+        if limit != RECIPROCITY_LIMIT:
+            bad.append("README's limit %g, the test's %g" % (limit, RECIPROCITY_LIMIT))
+        if not (worst <= RECIPROCITY_LIMIT and figure / 10 <= worst <= figure * 10):
+            bad.append("worst relative difference %.1e, README %.1e (limit %g)" % (worst, figure, limit))
+    assert not bad, "README.md's Enterprise PBR figures:\n  " + "\n  ".join(bad)
