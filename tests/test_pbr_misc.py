@@ -107,14 +107,42 @@ def test_the_san_giuseppe_light_rig_binds_one_directional_light():
     assert lights[0]["direction"] == pytest.approx((0.514434, -0.479014, -0.711269))
 
 
+RIG_SIZE = 64
+MEASURABLE = 0.01       # of what a white Lambertian surface gains from the light: far above float noise
+
+
+@pytest.fixture(scope="module")
+def rig_renderers():
+    """(renderer without lights, renderer with the rig, the rig's lights): same sky, same size, so the
+    difference of their images is the rig's light alone."""
+    lights = load_light_rig(RIG)
+    with Renderer(size=RIG_SIZE) as dark, Renderer(size=RIG_SIZE, lights=lights) as lit:
+        yield dark, lit, lights
+
+
 @pytest.mark.parametrize("name", sorted(BSDFS))
-def test_every_bsdf_lit_by_the_rig_is_finite_and_brighter(tmp_path, renderer, name):
+def test_every_bsdf_lit_by_the_rig_is_finite_and_brighter_where_the_light_reaches(tmp_path, rig_renderers, name):
+    """The rig's directional light adds light and takes none: lit - dark is finite and >= 0 at every pixel. Where
+    the light reaches (N.L > 0.2; from behind, N.L < -0.2, for translucent_bsdf, which only transmits) it adds at
+    least MEASURABLE of what a white Lambertian surface would gain there (I |N.L| / pi); where it cannot, less
+    than a tenth of what it adds where it can (subsurface's wrap lighting reaches a little past the terminator)."""
+    dark_r, lit_r, lights = rig_renderers
+    assert len(lights) == 1 and lights[0]["type"] == 2       # one directional light: N.L says where it reaches
     shader = pipeline.generate(bsdf_doc(tmp_path, BSDFS[name]))[0]
-    dark = renderer.render(shader)
-    with Renderer(size=64, lights=load_light_rig(RIG)) as r:
-        lit = r.render(shader)
-    assert np.isfinite(lit).all() and (lit[..., :3] >= 0).all()
-    assert lit[..., :3].sum() / lit[..., 3].sum() >= dark[..., :3].sum() / dark[..., 3].sum() * 0.999
+    dark, lit = dark_r.render(shader), lit_r.render(shader)
+    assert np.isfinite(lit).all() and np.isfinite(dark).all()
+    N, inside = sphere_geometry(RIG_SIZE)
+    inside &= (lit[..., 3] > 0) & (dark[..., 3] > 0)
+    added = (lit - dark)[..., :3].mean(-1)
+    assert added[inside].min() >= -1e-5, (name, added[inside].min())
+    L = -np.array(lights[0]["direction"]) / np.linalg.norm(lights[0]["direction"])
+    n_dot_l = (N * L).sum(-1) * (-1.0 if name == "translucent" else 1.0)
+    reached, unreached = inside & (n_dot_l > 0.2), inside & (n_dot_l < -0.2)
+    assert reached.sum() > 10 and unreached.sum() > 10        # both sides of the terminator are in view
+    white_lambert = lights[0]["intensity"] * n_dot_l[reached].mean() / np.pi
+    gain = added[reached].mean()
+    assert gain >= MEASURABLE * white_lambert, (name, gain, white_lambert)
+    assert added[unreached].mean() < 0.1 * gain, (name, added[unreached].mean(), gain)
 
 
 def test_light_nodes_generate_and_a_light_compound_compiles(tmp_path, renderer):
