@@ -244,4 +244,9 @@ def test_measured_edf_with_a_broken_ies_file_renders_dark_not_a_traceback(tmp_pa
   <surface name="s" type="surfaceshader"><input name="edf" type="EDF" nodename="lum" /></surface>""")
     r = subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), "render", path, "-o", str(tmp_path / "o"),
                         "--size", "32"], capture_output=True, text=True)
-    assert "Traceback" not in r.stderr
+    assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
+    from mtlxgen import images
+    img = images.read_image(str(tmp_path / "o" / "s.exr"))
+    covered = img[..., 3] > 0
+    assert covered.sum() > 100                           # the sphere is drawn ...
+    assert np.abs(img[..., :3][covered]).max() == 0.0    # ... and emits nothing: no profile, no light
