@@ -24,7 +24,13 @@ class MtlxError(Exception):
         super().__init__("\n".join(self.lines()))
 
     def lines(self):
-        return ["%s: %s" % (loc, msg) for loc, msg in self.problems]
+        return [_one_line("%s: %s" % (loc, msg)) for loc, msg in self.problems]
+
+
+def _one_line(text):
+    """A problem is one line: line breaks and other control characters a document put into a name or
+    value are shown escaped, as Python writes them."""
+    return text if text.isprintable() else "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)
 
 
 class Problems:

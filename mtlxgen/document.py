@@ -257,12 +257,9 @@ def build(root, path, source="document"):
     problems = Problems()
     b = _Builder(doc, problems)
     ctx = _child_ctx({}, root)
+    _check_names(root, problems)
     # typedefs first: struct values elsewhere depend on them
-    for el in root.children:
-        if el.tag == "typedef":
-            members = [(m.get("name"), m.get("type"), m.get("value")) for m in el.children if m.tag == "member"]
-            if members:
-                doc.structs[el.get("name")] = mxtypes.StructType(el.get("name"), members)
+    doc.structs = _struct_types(root, problems)
     for el in root.children:
         cctx = _child_ctx(ctx, el)
         tag, name = el.tag, el.get("name", "")
@@ -286,9 +283,9 @@ def build(root, path, source="document"):
         elif tag == "geompropdef":
             a = el.attrs
             try:
-                index = int(a.get("index", "0"))
-            except ValueError:
-                problems.add(el.loc, "geompropdef '%s': index is not an integer" % name)
+                index = mxtypes.parse_value("integer", a.get("index", "0"))
+            except mxtypes.ValueError_ as e:
+                problems.add(el.loc, "geompropdef '%s': index: %s" % (name, e))
                 index = 0
             doc.geompropdefs[name] = GeomPropDef(name=name, type=a.get("type", ""), geomprop=a.get("geomprop", ""),
                                                  loc=el.loc, space=a.get("space"), index=index, attrs=dict(a))
@@ -297,9 +294,9 @@ def build(root, path, source="document"):
             for u in el.children:
                 if u.tag == "unit":
                     try:
-                        units[u.get("name")] = float(u.get("scale", "1"))
-                    except ValueError:
-                        problems.add(u.loc, "unit '%s': scale is not a number" % u.get("name"))
+                        units[u.get("name")] = mxtypes.parse_value("float", u.get("scale", "1"))
+                    except mxtypes.ValueError_ as e:
+                        problems.add(u.loc, "unit '%s': scale: %s" % (u.get("name"), e))
         elif tag == "output":
             p = b.port(el, cctx, "output")
             doc.outputs[p.name] = p
@@ -320,6 +317,134 @@ def build(root, path, source="document"):
     problems.raise_if_any()
     _substitute_tokens(doc)
     return doc
+
+
+def _check_names(root, problems):
+    """Element names may hold what MaterialX's generator takes (it reads names its validator calls invalid,
+    e.g. with spaces), but not '/', which separates name paths, nor line breaks or other control characters,
+    which no GLSL comment, file name or one-line message could carry."""
+    stack = [root]
+    while stack:                # iterative: documents may nest deeply
+        el = stack.pop()
+        stack.extend(el.children)
+        name = el.get("name")
+        if name is None:
+            continue
+        if "/" in name:
+            problems.add(el.loc, "<%s> name %r holds '/', which separates MaterialX name paths" % (el.tag, name))
+        elif not name.isprintable():
+            problems.add(el.loc, "<%s> name %r holds a control character" % (el.tag, name))
+
+
+# member types a GLSL struct can hold besides other structs: values with a GLSL type and a literal
+_MEMBER_TYPES = ("float", "integer", "boolean", "color3", "color4", "vector2", "vector3", "vector4",
+                 "matrix33", "matrix44")
+STRUCT_DEPTH = 32           # structs nested deeper are refused (values of them are read recursively)
+
+
+def _struct_types(root, problems):
+    """{name: StructType} of the document's <typedef>s with <member>s (those without members declare
+    built-in types, as stdlib's do). Each must be a GLSL struct: named by a GLSL identifier, members of
+    value types or other structs of the document, uniquely named, none containing itself."""
+    from .graph import glsl_identifier
+    structs, locs = {}, {}
+    for el in root.children:
+        members = [m for m in el.children if m.tag == "member"] if el.tag == "typedef" else []
+        if not members:
+            continue
+        name = el.get("name") or ""
+        if name in mxtypes.BUILTIN:
+            problems.add(el.loc, "typedef '%s' gives members to a built-in type" % name)
+        elif glsl_identifier(name) != name:
+            problems.add(el.loc, "typedef %r: a struct name must be a GLSL identifier not reserved by GLSL or "
+                                 "mtlxgen (ASCII letters, digits, single '_')" % name)
+        elif name in structs:
+            problems.add(el.loc, "duplicate typedef '%s'" % name)
+        else:
+            rows, seen = [], set()
+            for m in members:
+                mn, mt = m.get("name") or "", m.get("type") or ""
+                if glsl_identifier(mn) != mn:
+                    problems.add(m.loc, "member %r of struct '%s': a member name must be a GLSL identifier not "
+                                        "reserved by GLSL or mtlxgen" % (mn, name))
+                elif mn in seen:
+                    problems.add(m.loc, "struct '%s' has two members named '%s'" % (name, mn))
+                seen.add(mn)
+                rows.append((mn, mt, m.get("value")))
+                locs[(name, mn)] = m.loc
+            structs[name] = mxtypes.StructType(name, rows, el.loc)
+            locs[name] = el.loc
+    for name, st in structs.items():
+        for mn, mt, value in st.members:
+            loc = locs[(name, mn)]
+            if mt in structs:
+                continue
+            if mt not in _MEMBER_TYPES:
+                why = "which a struct cannot hold" if mt in mxtypes.BUILTIN else "an unknown type"
+                problems.add(loc, "member '%s' of struct '%s' has type %r, %s" % (mn, name, mt, why))
+            elif value is not None:
+                try:
+                    mxtypes.parse_value(mt, value)
+                except mxtypes.ValueError_ as e:
+                    problems.add(loc, "member '%s' of struct '%s': %s" % (mn, name, e))
+    for name, problem in _struct_nesting(structs).items():
+        problems.add(locs[name], problem)
+    if problems:
+        return {}
+    for name, st in structs.items():        # struct-typed member defaults, now that every struct is sound
+        for mn, mt, value in st.members:
+            if mt in structs and value is not None:
+                try:
+                    mxtypes.parse_value(mt, value, structs)
+                except mxtypes.ValueError_ as e:
+                    problems.add(locs[(name, mn)], "member '%s' of struct '%s': %s" % (mn, name, e))
+    return structs
+
+
+def _struct_nesting(structs):
+    """{name: problem} for structs that cannot be declared: those that contain themselves (through their
+    members' types) and those nesting structs more than STRUCT_DEPTH deep."""
+    inner = {n: [mt for _, mt, _ in st.members if mt in structs] for n, st in structs.items()}
+    holders = {n: [] for n in structs}
+    for n, members in inner.items():
+        for mt in members:
+            holders[mt].append(n)
+    # depth by peeling structs whose inner structs all have one (Kahn's order: linear, no recursion)
+    waiting = {n: len(members) for n, members in inner.items()}
+    depth = {}
+    ready = [n for n, k in waiting.items() if k == 0]
+    while ready:
+        n = ready.pop()
+        depth[n] = 1 + max((depth[mt] for mt in inner[n]), default=0)
+        for h in holders[n]:
+            waiting[h] -= 1
+            if waiting[h] == 0:
+                ready.append(h)
+    problems = {}
+    for n in structs:                   # in document order
+        if n not in depth:              # on a cycle, or holding a struct on one
+            path = _path_back(n, inner)
+            if path:
+                problems[n] = "struct '%s' contains itself (%s)" % (n, " -> ".join(path))
+        elif depth[n] > STRUCT_DEPTH:
+            problems[n] = "struct '%s' nests structs more than %d deep" % (n, STRUCT_DEPTH)
+    return problems
+
+
+def _path_back(name, inner):
+    """[name, ..., name]: member types leading from struct `name` back to it, or None."""
+    parent, queue = {}, [name]
+    for n in queue:                     # breadth first: the shortest cycle
+        for mt in inner[n]:
+            if mt == name:
+                path = [n]
+                while path[-1] != name:
+                    path.append(parent[path[-1]])
+                return path[::-1] + [name]
+            if mt not in parent:
+                parent[mt] = n
+                queue.append(mt)
+    return None
 
 
 def _substitute_tokens(doc):

@@ -6,6 +6,7 @@ statement per node output in dependency order. Variable names come from the grap
 same document always gives byte-identical shaders. The vertex stage passes exactly the streams the
 fragment stage reads.
 """
+import hashlib
 import json
 import os
 from dataclasses import dataclass, field
@@ -27,25 +28,71 @@ _APP_DEFAULT = {"mat4": "mat4(1.0)", "vec3": "vec3(0.0)"}     # initializers, fo
 
 @dataclass
 class Shader:
-    element: str
+    element: str                      # the element's name path, as the document spells it
     vertex: str
     fragment: str
     manifest: dict = field(default_factory=dict)
+    stem: str = None                  # file name stem (file_stem(element) unless unique_stems changed it)
 
-    @property
-    def stem(self):
-        return self.element.replace("/", "_")
+    def __post_init__(self):
+        if self.stem is None:
+            self.stem = file_stem(self.element)
 
     def write(self, out_dir):
         os.makedirs(out_dir, exist_ok=True)
+        manifest = dict(self.manifest, vertex=self.stem + ".vert", fragment=self.stem + ".frag")
         paths = []
         for ext, text in ((".vert", self.vertex), (".frag", self.fragment),
-                          (".json", json.dumps(self.manifest, indent=1) + "\n")):
+                          (".json", json.dumps(manifest, indent=1) + "\n")):
             p = os.path.join(out_dir, self.stem + ext)
-            with open(p, "w") as f:
+            with open(p, "w", encoding="utf-8") as f:
                 f.write(text)
             paths.append(p)
         return paths
+
+
+# ---------------------------------------------------------------- file names and comments from names
+
+STEM_BYTES = 200          # under the usual 255-byte file name limit, with room for an extension
+_WINDOWS_DEVICES = {"CON", "PRN", "AUX", "NUL"} | {"%s%d" % (d, i) for d in ("COM", "LPT") for i in range(1, 10)}
+
+
+def file_stem(element):
+    """A file name stem for an element name path that is safe on any file system: '/' becomes '_' (the
+    established NODEGRAPH_OUTPUT stems), every other character but ASCII letters, digits, '_', '-', '.' and
+    '+' becomes '_', as does a leading '.' or '-'. Where anything else was changed, or the stem is longer
+    than STEM_BYTES, it ends in '-' and a hash of the real name, so different names keep different stems."""
+    plain = element.replace("/", "_")
+    safe = "".join(c if c.isascii() and (c.isalnum() or c in "_-.+") else "_" for c in plain)
+    if safe[:1] in (".", "-"):
+        safe = "_" + safe[1:]
+    if safe != plain or not safe or len(safe) > STEM_BYTES or safe.split(".")[0].upper() in _WINDOWS_DEVICES:
+        safe = _hashed(safe, element)
+    return safe
+
+
+def _hashed(stem, element, salt=""):
+    digest = hashlib.sha256((element + salt).encode("utf-8", "surrogatepass")).hexdigest()[:10]
+    return "%s-%s" % (stem[:STEM_BYTES - len(digest) - 1], digest)
+
+
+def unique_stems(shaders):
+    """Shaders written to one folder get distinct stems: where two clash (compared case-insensitively, for
+    case-insensitive file systems), the later one gets a hash of its element name appended."""
+    seen = set()
+    for s in shaders:
+        n = 0
+        while s.stem.casefold() in seen:
+            n += 1
+            s.stem = _hashed(file_stem(s.element), s.element, "#%d" % n if n > 1 else "")
+        seen.add(s.stem.casefold())
+    return shaders
+
+
+def comment_text(text):
+    """Document text (names, file names) made safe for a `//` comment: no line breaks or other control
+    characters, no trailing backslash (a line continuation), nothing outside ASCII."""
+    return "".join(c if " " <= c <= "~" and c != "\\" else "?" for c in text).replace("*/", "*?")
 
 
 # ---------------------------------------------------------------- glsl_lib files
@@ -88,7 +135,7 @@ class Emitter:
         self.app_uniforms = set()
         self.vars = {}                # (node id, output) -> GLSL expression
         self.body = []
-        self.names = set(graph.uniforms)
+        self.names = set(graph.uniforms) | set(graph.structs)   # a variable must not hide a struct type
         self.textures = {}            # sampler uniform -> extra manifest fields
         self.uses_closures = False
         self.closure_nodes = {}       # id -> GNode of closure nodes, evaluated per context by shader nodes
@@ -97,6 +144,7 @@ class Emitter:
         self.closure_vars = {}        # (block, node id, output) -> variable
         self.conditions = {}          # closure node id -> GLSL condition under which it is needed (None: always)
         self.indent = 1
+        self.current = None           # the node being emitted (errors of the streams it asks for name it)
 
     # ---------- services for templates and handlers ----------
     def fail(self, node, message):
@@ -119,12 +167,21 @@ class Emitter:
         self.app_uniforms.add(name)
         return name
 
-    def stream(self, name, mx_type=None):
+    def stream(self, name, mx_type=None, node=None):
         s = self.streams.get(name)
         if s is None:
-            s = streams.lookup(name, mx_type)
+            s = self.lookup_stream(name, mx_type, node)
             self.streams[name] = s
         return s.fragment.format("v_" + name)
+
+    def lookup_stream(self, name, mx_type, node):
+        try:
+            return streams.lookup(name, mx_type)
+        except KeyError:
+            node = node or self.current
+            if node is None:
+                raise
+            self.fail(node, "no geometric stream '%s' (%s)" % (name, streams.NAMES))
 
     def expr(self, src):
         if src.node is not None:
@@ -180,12 +237,17 @@ class Emitter:
             t = node.inputs[f[1:]].type
             if t in ("string", "filename", "geomname"):
                 return glsl_identifier(str(value))
-            return mxtypes.glsl_literal(t, value, self.graph.structs)
+            try:
+                return mxtypes.glsl_literal(t, value, self.graph.structs)
+            except mxtypes.ValueError_ as e:
+                self.fail(node, "input '%s': %s" % (f[1:], e))
         if f.startswith("@"):
-            return self.stream(f[1:])
+            return self.stream(f[1:], node=node)
         if f == "$type":
             return self.glsl_type(out_type)
         if f.startswith("$type:"):
+            if f[6:] not in node.inputs:
+                self.fail(node, "implementation template names '%s', which is not an input" % f[6:])
             return self.glsl_type(node.inputs[f[6:]].type)
         if f in node.inputs:
             src = node.inputs[f]
@@ -212,7 +274,7 @@ class Emitter:
 
     def open_block(self, context, comment=None):
         if comment:
-            self.line("// " + comment)
+            self.line("// " + comment_text(comment))
         self.line("{")
         self.indent += 1
         self.block += 1
@@ -304,6 +366,7 @@ class Emitter:
             self.conditions.setdefault(node_id, c)
 
     def emit_node(self, node):
+        self.current = node
         impl = nodes.lookup(node.nodedef, self.graph.library)
         if impl is None:
             self.fail(node, "no GLSL implementation for nodedef %s" % node.nodedef.name)
@@ -397,6 +460,12 @@ class Emitter:
         raise MtlxError((result.loc, "an output of type %s cannot be rendered" % t))
 
     def uniform_decl(self, u):
+        try:
+            return self._uniform_decl(u)
+        except mxtypes.ValueError_ as e:
+            raise MtlxError((u.loc, "input '%s': %s" % (u.name, e))) from None
+
+    def _uniform_decl(self, u):
         t = u.type
         if t == "filename":
             return "uniform sampler2D %s;" % u.name
@@ -452,17 +521,18 @@ class Emitter:
         out_expr = self.output_statement(g.result)
         if any(mxtypes.is_closure(t) for n in g.nodes if n.id in fragment_ids for t in n.outputs.values()):
             self.uses_closures = True          # shader-typed values need the closure structs
-        frag = ["#version " + GLSL_VERSION, "// %s: generated by mtlxgen from %s" % (g.element, os.path.basename(g.doc_path)), ""]
+        frag = ["#version " + GLSL_VERSION, "// %s: generated by mtlxgen from %s" % (
+            comment_text(g.element), comment_text(os.path.basename(g.doc_path))), ""]
         if self.uses_closures:
             self.files.insert(0, "closures.glsl")
         lit = "lighting/environment.glsl" in self.files
         if lit:
             frag.extend("#define " + d for d in _ENVIRONMENT_DEFINES[self.environment])
-        for name, st in g.structs.items():
-            if any(s.type == name for n in g.nodes for s in n.inputs.values()) or any(
-                    t == name for n in g.nodes for t in n.outputs.values()) or g.result.type == name:
-                frag.append("struct %s { %s };" % (name, " ".join(
-                    "%s %s;" % (mxtypes.glsl_type(mt, g.structs), mn) for mn, mt, _ in st.members)))
+        used = {s.type for n in g.nodes for s in n.inputs.values()} | {
+            t for n in g.nodes for t in n.outputs.values()} | {g.result.type} | {u.type for u in g.uniforms.values()}
+        for name in struct_order([t for t in g.structs if t in used], g.structs):
+            frag.append("struct %s { %s };" % (name, " ".join(
+                "%s %s;" % (mxtypes.glsl_type(mt, g.structs), mn) for mn, mt, _ in g.structs[name].members)))
         for u in sorted(self.app_uniforms):
             frag.append("uniform %s %s = %s;" % (APP_UNIFORMS[u], u, _APP_DEFAULT[APP_UNIFORMS[u]]))
         for u in g.uniforms.values():
@@ -476,7 +546,7 @@ class Emitter:
             frag.append("// ---- glsl_lib/%s" % rel)
             frag.append(text.rstrip() + "\n")
         for path, text in self.external:
-            frag.append("// ---- %s" % os.path.basename(path))
+            frag.append("// ---- %s" % comment_text(os.path.basename(path)))
             frag.append(text.rstrip() + "\n")
         frag.append("void main()")
         frag.append("{")
@@ -485,7 +555,7 @@ class Emitter:
         frag.append("}")
         fragment = "\n".join(frag) + "\n"
         vertex, attributes = self.vertex_stage(vertex_emitter)
-        stem = g.element.replace("/", "_")
+        stem = file_stem(g.element)
         manifest = {
             "element": g.element,
             "glsl_version": GLSL_VERSION,
@@ -530,7 +600,7 @@ class Emitter:
             for a, t in displacer.attributes.items():
                 attrs.setdefault(a, t)
             uniforms.update(displacer.app_uniforms)
-        lines = ["#version " + GLSL_VERSION, "// %s: generated by mtlxgen" % self.graph.element, ""]
+        lines = ["#version " + GLSL_VERSION, "// %s: generated by mtlxgen" % comment_text(self.graph.element), ""]
         lines += ["in %s %s;" % (t, a) for a, t in attrs.items()]
         lines += ["uniform %s %s = %s;" % (APP_UNIFORMS[u], u, _APP_DEFAULT[APP_UNIFORMS[u]]) for u in sorted(uniforms)]
         lines += ["%sout %s v_%s;" % ("flat " if s.flat else "", s.type, s.name) for s in self.streams.values()]
@@ -566,12 +636,33 @@ class VertexEmitter(Emitter):
     def vars_owner(self):
         return {node_id for node_id, _ in self.vars}
 
-    def stream(self, name, mx_type=None):
-        s = streams.lookup(name, mx_type)
+    def stream(self, name, mx_type=None, node=None):
+        s = self.lookup_stream(name, mx_type, node)
         for a, t in s.attributes:
             self.attributes.setdefault(a, t)
         self.app_uniforms.update(s.uniforms)
         return "(%s)" % s.fragment.format("(%s)" % s.vertex)
+
+
+def struct_order(names, structs):
+    """`names` and the struct types their members hold, each after the structs it holds (GLSL declares a
+    type before its use). Structs are acyclic (document.py refuses a struct that contains itself)."""
+    order, done = [], set()
+    for root in names:
+        stack, on_stack = [(root, iter(structs[root].members))], {root}
+        while stack:
+            name, members = stack[-1]
+            inner = next((mt for _, mt, _ in members if mt in structs and mt not in done | on_stack), None)
+            if inner is not None:
+                stack.append((inner, iter(structs[inner].members)))
+                on_stack.add(inner)
+            else:
+                stack.pop()
+                on_stack.discard(name)
+                if name not in done:
+                    done.add(name)
+                    order.append(name)
+    return order
 
 
 def _conjoin(a, b):

@@ -5,9 +5,11 @@ nprlib; never its gen* folders: we read definitions, not MaterialX's shader code
 library (glsl_lib/*.mtlx), directories in MATERIALX_SEARCH_PATH, and directories given with --library.
 Parsed libraries are cached (pickle keyed by every file's path, size and mtime) so a warm load is fast.
 """
+import functools
 import hashlib
 import os
 import pickle
+import re
 from dataclasses import dataclass, field
 
 from . import __version__, document
@@ -39,6 +41,43 @@ def glsl_lib_root():
         if os.path.isdir(cand):
             return cand
     raise RuntimeError("glsl_lib not found next to the mtlxgen package")
+
+
+# GLSL 4.00's built-in functions (spec chapter 8): a struct of the same name would hide them
+GLSL_BUILTIN_FUNCTIONS = frozenset("""radians degrees sin cos tan asin acos atan sinh cosh tanh asinh acosh atanh
+pow exp log exp2 log2 sqrt inversesqrt abs sign floor trunc round roundEven ceil fract mod modf min max clamp mix
+step smoothstep isnan isinf floatBitsToInt floatBitsToUint intBitsToFloat uintBitsToFloat fma frexp ldexp
+packUnorm2x16 packSnorm2x16 packUnorm4x8 packSnorm4x8 unpackUnorm2x16 unpackSnorm2x16 unpackUnorm4x8
+unpackSnorm4x8 packDouble2x32 unpackDouble2x32 packHalf2x16 unpackHalf2x16 length distance dot cross normalize
+ftransform faceforward reflect refract matrixCompMult outerProduct transpose determinant inverse lessThan
+lessThanEqual greaterThan greaterThanEqual equal notEqual any all not uaddCarry usubBorrow umulExtended
+imulExtended bitfieldExtract bitfieldInsert bitfieldReverse bitCount findLSB findMSB textureSize textureQueryLod
+texture textureProj textureLod textureOffset texelFetch texelFetchOffset textureProjOffset textureLodOffset
+textureProjLod textureProjLodOffset textureGrad textureGradOffset textureProjGrad textureProjGradOffset
+textureGather textureGatherOffset textureGatherOffsets dFdx dFdy fwidth interpolateAtCentroid
+interpolateAtSample interpolateAtOffset noise1 noise2 noise3 noise4 EmitStreamVertex EndStreamPrimitive
+EmitVertex EndPrimitive barrier""".split())
+
+
+_MTLXGEN_PREFIX = re.compile(r"mg_|MG_|Mg[A-Z]")     # mtlxgen's own names in generated GLSL
+
+
+@functools.lru_cache(maxsize=None)
+def glsl_lib_names():
+    """Global names of mtlxgen's GLSL library (structs, functions, constants, macros) and GLSL's built-in
+    functions: a document's struct type taking one would clash with it or hide it."""
+    texts = []
+    for dp, _, fs in os.walk(glsl_lib_root()):
+        texts += [_read_text(os.path.join(dp, f)) for f in fs if f.endswith(".glsl")]
+    code = re.sub(r"//[^\n]*|/\*.*?\*/", " ", "\n".join(texts), flags=re.S)
+    found = re.findall(r"\bstruct\s+(\w+)|#\s*define\s+(\w+)|\bconst\s+\w+\s+(\w+)|^\s*\w+\s+(\w+)\s*\(",
+                       code, flags=re.M)
+    return frozenset(n for groups in found for n in groups if n) | GLSL_BUILTIN_FUNCTIONS
+
+
+def _read_text(path):
+    with open(path, encoding="utf-8") as f:
+        return f.read()
 
 
 def _mtlx_files(root, folders=None):
@@ -85,6 +124,10 @@ class Library:
     files: list = field(default_factory=list)
 
     def add_document(self, doc, overlay=False):
+        taken = [st for st in doc.structs.values() if st.name in glsl_lib_names() or _MTLXGEN_PREFIX.match(st.name)]
+        if taken:
+            raise MtlxError([(st.loc, "typedef '%s': the generated GLSL already uses the name '%s'"
+                              % (st.name, st.name)) for st in taken])
         self.structs.update(doc.structs)
         self.geompropdefs.update(doc.geompropdefs)
         for unittype, units in doc.unitdefs.items():

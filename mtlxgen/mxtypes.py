@@ -2,6 +2,7 @@
 
 Plain tables: one row per type. Struct types declared with <typedef> are added per document.
 """
+import re
 from dataclasses import dataclass, field
 
 
@@ -56,6 +57,7 @@ class StructType:
     """A <typedef> with <member>s: a GLSL struct of the same name."""
     name: str
     members: list = field(default_factory=list)   # [(name, type, default value string or None)]
+    loc: object = None                            # the <typedef>'s diagnostics.Loc
 
 
 def is_closure(type_name):
@@ -80,38 +82,51 @@ class ValueError_(ValueError):
     pass
 
 
+# Numbers are read strictly: Python's float()/int() also take "nan", "Infinity", "1_000" and non-ASCII digits,
+# which MaterialX does not read and no GLSL literal can carry.
+_FLOAT_RE = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
+_INT_RE = re.compile(r"[+-]?\d+(?:\.0*)?", re.ASCII)      # "2.0" reads as 2, as in MaterialX
+FLOAT_MAX = 3.4028234663852886e38                        # largest finite 32-bit float (GLSL's float)
+INT_MIN, INT_MAX = -2 ** 31, 2 ** 31 - 1                 # GLSL's int
+
+
+def _float(text, whole=None):
+    """A float value (or a component of the list value `whole`, which errors then name)."""
+    t, where = text.strip(), " in %r" % whole if whole is not None else ""
+    if not _FLOAT_RE.fullmatch(t):
+        if t.lstrip("+-").lower() in ("inf", "infinity", "nan"):
+            raise ValueError_("non-finite value %r%s (no GLSL literal can carry it)" % (text, where))
+        raise ValueError_("not a number: %r%s" % (text, where))
+    x = float(t)
+    if abs(x) > FLOAT_MAX:
+        raise ValueError_("non-finite value %r%s (beyond the range of a 32-bit float)" % (text, where))
+    return x
+
+
 def _floats(text, count):
     parts = [p.strip() for p in text.split(",")]
     if len(parts) == 1 and len(text.split()) == count:
         parts = text.split()            # written space-separated (seen in the wild; MaterialX reads it too)
     if len(parts) != count:
         raise ValueError_("expected %d comma-separated numbers, got %d in %r" % (count, len(parts), text))
-    try:
-        return tuple(float(p) for p in parts)
-    except ValueError:
-        raise ValueError_("not a number in %r" % text) from None
+    return tuple(_float(p, text) for p in parts)
 
 
-def _int(text):
-    try:
-        return int(text.strip())
-    except ValueError:
-        try:
-            f = float(text)
-        except ValueError:
-            raise ValueError_("not an integer: %r" % text) from None
-        if f != int(f):
-            raise ValueError_("not an integer: %r" % text) from None
-        return int(f)
+def _int(text, whole=None):
+    t, where = text.strip(), " in %r" % whole if whole is not None else ""
+    if not _INT_RE.fullmatch(t):
+        raise ValueError_("not an integer: %r%s" % (text, where))
+    n = int(t.split(".")[0])
+    if not INT_MIN <= n <= INT_MAX:
+        raise ValueError_("integer %r%s is outside the 32-bit range of GLSL's int" % (text, where))
+    return n
 
 
 def _bool(text):
-    t = text.strip().lower()
-    if t in ("true", "1"):
-        return True
-    if t in ("false", "0"):
-        return False
-    raise ValueError_("not a boolean: %r" % text)
+    t = text.strip()
+    if t in ("true", "false"):      # MaterialX reads no other spelling ("1", "TRUE", "yes")
+        return t == "true"
+    raise ValueError_("not a boolean: %r (MaterialX reads only 'true' or 'false')" % text)
 
 
 def parse_value(type_name, text, structs=None):
@@ -124,10 +139,7 @@ def parse_value(type_name, text, structs=None):
     if text is None:
         return None
     if type_name == "float":
-        try:
-            return float(text)
-        except ValueError:
-            raise ValueError_("not a number: %r" % text) from None
+        return _float(text)
     if type_name == "integer":
         return _int(text)
     if type_name == "boolean":
@@ -147,18 +159,15 @@ def parse_value(type_name, text, structs=None):
         parts = [p.strip() for p in text.split(",")]
         if len(parts) % size:
             raise ValueError_("%s needs a multiple of %d numbers, got %d" % (type_name, size, len(parts)))
-        conv = _int if element == "integer" else float
-        try:
-            vals = [conv(p) for p in parts]
-        except ValueError:
-            raise ValueError_("not a number in %r" % text) from None
+        conv = _int if element == "integer" else _float
+        vals = [conv(p, text) for p in parts]
         if size == 1:
             return tuple(vals)
         return tuple(tuple(vals[i:i + size]) for i in range(0, len(vals), size))
     if structs and type_name in structs:
         # struct values are written as a ';'-separated list of member values
         members = structs[type_name].members
-        parts = text.strip().strip("{}").split(";")
+        parts = _struct_parts(text)
         if len(parts) != len(members):
             raise ValueError_("struct %s has %d members, value %r has %d" % (type_name, len(members), text, len(parts)))
         return tuple(parse_value(mt, p.strip(), structs) for (_, mt, _), p in zip(members, parts))
@@ -167,11 +176,32 @@ def parse_value(type_name, text, structs=None):
     raise ValueError_("unknown type %r" % type_name)
 
 
+def _struct_parts(text):
+    """'{a;{b;c}}' -> ['a', '{b;c}']: member values split at the ';' outside nested braces."""
+    t = text.strip()
+    if t.startswith("{") and t.endswith("}"):
+        t = t[1:-1]
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(t):
+        if ch == "{":
+            depth += 1
+        elif ch == "}":
+            depth -= 1
+            if depth < 0:
+                break
+        elif ch == ";" and depth == 0:
+            parts.append(t[start:i])
+            start = i + 1
+    if depth != 0:
+        raise ValueError_("unbalanced braces in struct value %r" % text)
+    return parts + [t[start:]]
+
+
 def format_float(x):
     """Shortest GLSL float literal that round-trips to the same double (always with a '.' or exponent)."""
     x = float(x)
-    if x != x or x in (float("inf"), float("-inf")):
-        raise ValueError_("non-finite value %r" % x)
+    if not abs(x) <= FLOAT_MAX:       # also catches nan
+        raise ValueError_("non-finite value %r (no GLSL literal can carry it)" % x)
     s = repr(x)
     if "e" in s or "E" in s:
         mant, exp = s.lower().split("e")
@@ -186,6 +216,8 @@ def glsl_literal(type_name, value, structs=None):
     if type_name == "float":
         return format_float(value)
     if type_name == "integer":
+        if not INT_MIN <= int(value) <= INT_MAX:
+            raise ValueError_("integer %d is outside the 32-bit range of GLSL's int" % value)
         return str(int(value))
     if type_name == "boolean":
         return "true" if value else "false"

@@ -55,6 +55,7 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
             shaders.append(session.shader(name))
         except MtlxError as e:
             problems.extend(e)
+    emit.unique_stems(shaders)          # one output folder holds them all
     if partial:
         return shaders, (MtlxError(problems.items) if problems else None)
     problems.raise_if_any()

@@ -4,6 +4,7 @@ A stream is requested by name from a template ({{@normal_world}}) or a handler. 
 GLSL type, the vertex attributes it reads, the vertex-stage expression and how the fragment stage
 reads the interpolated value. Names with an index or a property name are built by `lookup`.
 """
+import re
 from dataclasses import dataclass
 
 _N_WORLD = "(u_worldInverseTransposeMatrix * vec4(i_normal, 0.0)).xyz"
@@ -42,16 +43,24 @@ _GLSL_OF = {"float": "float", "integer": "int", "boolean": "int", "color3": "vec
             "vector2": "vec2", "vector3": "vec3", "vector4": "vec4"}
 
 
+NAMES = ("streams are position/normal/tangent/bitangent_object or _world, texcoord_N, color_N and geomprop_NAME, "
+         "N a number, NAME of ASCII letters, digits and single '_'")
+# N and NAME become part of a GLSL attribute name ("__" is reserved in GLSL)
+_INDEX = re.compile(r"\d{1,9}", re.ASCII)
+_PRIMVAR = re.compile(r"[A-Za-z0-9]+(_[A-Za-z0-9]+)*_?", re.ASCII)
+
+
 def lookup(name, mx_type=None):
-    """Stream by name: fixed ones, texcoord_N, color_N, or geomprop_NAME (typed by mx_type)."""
+    """Stream by name: fixed ones, texcoord_N, color_N, or geomprop_NAME (typed by mx_type).
+    KeyError for any other name."""
     if name in FIXED:
         return FIXED[name]
     kind, _, rest = name.partition("_")
-    if kind == "texcoord" and rest.isdigit():
+    if kind == "texcoord" and _INDEX.fullmatch(rest):
         return Stream(name, "vec2", (("i_texcoord_" + rest, "vec2"),), "i_texcoord_" + rest)
-    if kind == "color" and rest.isdigit():
+    if kind == "color" and _INDEX.fullmatch(rest):
         return Stream(name, "vec4", (("i_color_" + rest, "vec4"),), "i_color_" + rest)
-    if kind == "geomprop" and rest:
+    if kind == "geomprop" and _PRIMVAR.fullmatch(rest):
         t = _GLSL_OF.get(mx_type or "float", "float")
         read = "({} != 0)" if mx_type == "boolean" else "{}"
         return Stream(name, t, (("i_geomprop_" + rest, t),), "i_geomprop_" + rest, read, flat=t == "int")
