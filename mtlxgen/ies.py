@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
+from .files import read_bounded
 
 WIDTH, HEIGHT = 64, 91          # texture: horizontal x vertical samples
 
@@ -51,11 +52,8 @@ def _tokens(lines, first_line):
 
 
 def parse(path):
-    try:
-        with open(path, encoding="latin-1") as f:
-            lines = f.read().splitlines()
-    except OSError as e:
-        raise MtlxError((Loc(path, 0), "cannot read IES file: %s" % e.strerror)) from None
+    # regular files only, size capped (a document names the profile: it may point at /dev/zero)
+    lines = read_bounded(path, Loc(path, 0), "IES file").decode("latin-1").splitlines()
     if not lines:
         raise MtlxError((Loc(path, 1), "empty IES file"))
     keywords, i = {}, 0

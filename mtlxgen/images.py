@@ -4,6 +4,9 @@ import os
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
+from .files import check_regular
+
+MAX_IMAGE_PIXELS = 2 ** 27      # 16384 x 8192: a lat-long environment; a bigger header is a decompression bomb
 
 
 def srgb_encode(linear):
@@ -21,12 +24,18 @@ def to_srgb8(img):
 def read_image(path):
     """Image file -> float32 array (rows top first, channels last). Raises MtlxError if unreadable."""
     import OpenImageIO as oiio
+    # textures are decoded, never copied, so any regular file will do; devices and /proc would hang or leak
+    check_regular(path, Loc(path, 0), "image file")
     # colour as stored: straight (unassociated) alpha, as texture files mean it and as USD's rules read it
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
     buf = oiio.ImageBuf(path, 0, 0, config)
     if buf.has_error:
         raise MtlxError((Loc(path, 0), "cannot read image: %s" % buf.geterror().strip()))
+    spec = buf.spec()       # the header only: refuse sizes that would exhaust memory before decoding
+    if spec.width * spec.height * max(spec.depth, 1) > MAX_IMAGE_PIXELS or spec.nchannels > 64:
+        raise MtlxError((Loc(path, 0), "image of %dx%d pixels, %d channels is larger than %d megapixels"
+                                      % (spec.width, spec.height, spec.nchannels, MAX_IMAGE_PIXELS // 10 ** 6)))
     px = buf.get_pixels(oiio.FLOAT)
     if px is None or buf.has_error:
         raise MtlxError((Loc(path, 0), "cannot read image: %s" % buf.geterror().strip()))

@@ -2,13 +2,23 @@
 
 Built on the standard library's expat binding; DTDs and entity declarations are refused (no
 entity expansion attacks, no external fetches). Included documents' children are spliced in place
-of the <xi:include> element, each keeping its own file and line.
+of the <xi:include> element, each keeping its own file and line. Documents are read through
+files.read_bounded (regular files only, size capped); included files must lie inside the allowed
+roots (files.allowed_roots: the document's folder, the search paths, the data libraries).
+Elements nest at most MAX_DEPTH levels, includes spliced in counted, so nothing later recurses deeply.
 """
+import codecs
+import importlib
 import os
+import re
 import xml.parsers.expat
 from dataclasses import dataclass, field
 
+from . import files
 from .diagnostics import Loc, MtlxError
+
+MAX_DEPTH = 256          # MaterialX documents nest about 5 levels
+MAX_INCLUDES = 1024      # included files read for one document (a diamond of includes multiplies reads)
 
 
 @dataclass
@@ -26,14 +36,70 @@ class _Refused(Exception):
     pass
 
 
+# Encodings expat reads directly; single-byte code pages (iso8859-*, cp125x, koi8-*) are decoded by Python.
+_ENCODINGS = {"utf-8", "utf-8-sig", "utf-16", "utf-16-le", "utf-16-be", "ascii", "iso8859-1"}
+_DECLARATION = re.compile(rb"<\?xml[^>]*?\sencoding\s*=\s*([\"'])(.*?)\1")
+
+
+def _single_byte(codec):
+    try:
+        return hasattr(importlib.import_module("encodings." + codec.replace("-", "_")), "decoding_table")
+    except ImportError:
+        return False
+
+
+def _encoding_of(data, path):
+    """The Python codec for a document's bytes: byte-order mark, UTF-16 without one, or the XML declaration."""
+    if data.startswith((codecs.BOM_UTF32_LE, codecs.BOM_UTF32_BE)):
+        raise MtlxError((Loc(path, 1), "unsupported encoding 'utf-32' (read: UTF-8, UTF-16, ASCII, single-byte)"))
+    if data.startswith(codecs.BOM_UTF8):
+        return "utf-8-sig"
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return "utf-16"
+    if data.startswith(b"<\0"):
+        return "utf-16-le"
+    if data.startswith(b"\0<"):
+        return "utf-16-be"
+    m = _DECLARATION.match(data[:1024])
+    if not m:
+        return "utf-8"
+    name = m.group(2).decode("ascii", "replace")
+    try:
+        codec = codecs.lookup(name).name
+    except LookupError:
+        codec = None
+    if codec is None or not (codec in _ENCODINGS or _single_byte(codec)):
+        raise MtlxError((Loc(path, 1), "unsupported encoding '%s' (read: UTF-8, UTF-16, ASCII, single-byte)" % name))
+    return codec
+
+
+def _decode(data, path):
+    if isinstance(data, str):
+        return data
+    codec = _encoding_of(data, path)
+    try:
+        return data.decode(codec)
+    except UnicodeDecodeError as e:
+        line = data[:e.start].decode(codec, "replace").count("\n") + 1
+        raise MtlxError((Loc(path, line), "not valid %s text (byte 0x%02x)" % (codec, data[e.start]))) from None
+
+
 def parse_text(text, path):
-    """XML text -> root XElement. Raises MtlxError naming file and line on malformed XML."""
-    parser = xml.parsers.expat.ParserCreate()
+    """XML text (str, or bytes in the encoding they declare) -> root XElement.
+
+    Raises MtlxError naming file and line on malformed XML, unsupported encodings, entity
+    declarations and elements nested deeper than MAX_DEPTH."""
+    text = _decode(text, path)
+    # filename tokens are written raw inside attribute values (MaterialX's reader accepts them)
+    text = text.replace("<UDIM>", "&lt;UDIM&gt;").replace("<UVTILE>", "&lt;UVTILE&gt;")
+    parser = xml.parsers.expat.ParserCreate("UTF-8")     # decoded above: the declared encoding is overridden
     parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
     root_holder = []
     stack = []
 
     def start(tag, attrs):
+        if len(stack) >= MAX_DEPTH:
+            raise _Refused("elements nest more than %d levels deep" % MAX_DEPTH)
         el = XElement(tag, attrs, Loc(path, parser.CurrentLineNumber))
         if stack:
             stack[-1].children.append(el)
@@ -55,11 +121,7 @@ def parse_text(text, path):
     parser.EntityDeclHandler = refuse_entity
     parser.ExternalEntityRefHandler = refuse_external
     try:
-        if isinstance(text, str):
-            text = text.encode("utf-8")
-        # filename tokens are written raw inside attribute values (MaterialX's reader accepts them)
-        text = text.replace(b"<UDIM>", b"&lt;UDIM&gt;").replace(b"<UVTILE>", b"&lt;UVTILE&gt;")
-        parser.Parse(text, True)
+        parser.Parse(text.encode("utf-8"), True)
     except xml.parsers.expat.ExpatError as e:
         raise MtlxError((Loc(path, e.lineno), "malformed XML: %s" % xml.parsers.expat.ErrorString(e.code))) from None
     except _Refused as e:
@@ -69,20 +131,21 @@ def parse_text(text, path):
     return root_holder[0]
 
 
-def read_file(path, search_paths=(), _including=None, _from=None):
-    """Read a .mtlx file, splicing xi:include'd documents. Returns the root XElement."""
-    path = os.path.abspath(path)
-    try:
-        with open(path, "rb") as f:
-            data = f.read()
-    except OSError as e:
-        where = _from or Loc(path, 0)
-        raise MtlxError((where, "cannot read %s: %s" % (path, e.strerror or e))) from None
-    root = parse_text(data, path)
+def _read_document(path, loc, what):
+    root = parse_text(files.read_bounded(path, loc, what), path)
     if root.tag != "materialx":
         raise MtlxError((root.loc, "root element is <%s>, expected <materialx>" % root.tag))
-    including = (_including or ()) + (path,)
-    root.children = _expand_includes(root.children, path, search_paths, including)
+    return root
+
+
+def read_file(path, search_paths=()):
+    """Read a .mtlx file, splicing xi:include'd documents. Returns the root XElement.
+
+    Included files must be inside the document's folder, the search paths or the data libraries."""
+    path = os.path.abspath(path)
+    root = _read_document(path, Loc(path, 0), "the document")
+    roots = files.allowed_roots(path, search_paths)
+    _expand_includes(root, path, search_paths, roots)
     return root
 
 
@@ -90,36 +153,58 @@ def _is_include(el):
     return el.tag == "xi:include" or el.tag.endswith(":include") or el.tag == "include"
 
 
-def _expand_includes(children, path, search_paths, including):
-    out = []
-    for child in children:
-        if not _is_include(child):
-            child.children = _expand_includes(child.children, path, search_paths, including)
+def _expand_includes(root, path, search_paths, roots):
+    """Splice included documents in place, walking the tree with a work list (no recursion per level).
+    Each element carries the chain of files that included it, for cycle detection."""
+    reads = [0]
+    work = [(root, 1, (os.path.realpath(path),))]
+    while work:
+        el, depth, chain = work.pop()
+        pending = [(c, chain) for c in reversed(el.children)]
+        out = []
+        while pending:
+            child, child_chain = pending.pop()
+            if _is_include(child):
+                target, sub = _read_include(child, search_paths, roots, child_chain, reads)
+                pending.extend((g, child_chain + (target,)) for g in reversed(sub.children))
+                continue
+            if depth >= MAX_DEPTH:
+                raise MtlxError((child.loc, "elements nest more than %d levels deep (with includes)" % MAX_DEPTH))
             out.append(child)
-            continue
-        href = child.get("href")
-        if not href:
-            raise MtlxError((child.loc, "xi:include without href"))
-        target = find_file(href, os.path.dirname(path), search_paths)
-        if target is None:
-            raise MtlxError((child.loc, "included file not found: %s" % href))
-        if os.path.abspath(target) in including:
-            raise MtlxError((child.loc, "include cycle: %s includes itself" % href))
-        sub = read_file(target, search_paths, including, child.loc)
-        # the included document's own version and prefixes apply to what came from it
-        for grand in sub.children:
-            for key in ("fileprefix", "geomprefix", "colorspace"):
-                if key in sub.attrs and key not in grand.attrs:
-                    grand.attrs[key] = sub.attrs[key]
-        out.extend(sub.children)
-    return out
+            work.append((child, depth + 1, child_chain))
+        el.children = out
+
+
+def _read_include(el, search_paths, roots, chain, reads):
+    """(real path, root XElement) of the document an include element names, its prefixes passed down."""
+    href = el.get("href")
+    if not href:
+        raise MtlxError((el.loc, "xi:include without href"))
+    what = "xi:include '%s'" % href
+    target = find_file(href, os.path.dirname(el.loc.file), search_paths)
+    if target is None:
+        raise MtlxError((el.loc, "included file not found: %s" % href))
+    files.check_inside(target, roots, el.loc, what)
+    real = os.path.realpath(target)
+    if real in chain:
+        raise MtlxError((el.loc, "include cycle: %s includes itself" % href))
+    reads[0] += 1
+    if reads[0] > MAX_INCLUDES:
+        raise MtlxError((el.loc, "more than %d included files" % MAX_INCLUDES))
+    sub = _read_document(os.path.abspath(target), el.loc, what)
+    # the included document's own version and prefixes apply to what came from it
+    for grand in sub.children:
+        for key in ("fileprefix", "geomprefix", "colorspace"):
+            if key in sub.attrs and key not in grand.attrs:
+                grand.attrs[key] = sub.attrs[key]
+    return real, sub
 
 
 def find_file(name, base_dir, search_paths=()):
     if os.path.isabs(name):
-        return name if os.path.exists(name) else None
+        return name if os.path.lexists(name) else None
     for base in [base_dir, *search_paths]:
         cand = os.path.join(base, name)
-        if os.path.exists(cand):
+        if os.path.lexists(cand):
             return cand
     return None

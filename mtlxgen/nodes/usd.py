@@ -25,7 +25,7 @@ glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES), and accepts
   with the dielectric F0 from ior and F90 = 1), no conductor; opacity is alpha, not refraction;
   opacityThreshold > 0 cuts out (alpha 0 below the threshold, 1 at or above it).
 """
-import os
+from ..files import regular_file_problem
 
 USD_CATEGORIES = ("UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader", "UsdTransform2d")
 
@@ -99,7 +99,7 @@ def accepts_result_output(category):
 
 def file_info(path):
     """{channels, bits8, linear_claim, wrapS, wrapT} of an image file from its header, or None."""
-    if not path or not os.path.isfile(path):
+    if not path or regular_file_problem(path) is not None:     # no devices, FIFOs or /proc (files.py)
         return None
     try:
         import OpenImageIO as oiio
