@@ -403,11 +403,8 @@ class Emitter:
         path, function, loc = external
         full = path if os.path.isabs(path) else os.path.join(os.path.dirname(loc.file), path)
         if not any(p == full for p, _ in self.external):
-            try:
-                with open(full) as f:
-                    self.external.append((full, f.read()))
-            except OSError as e:
-                raise MtlxError((loc, "implementation file %s: %s" % (path, e.strerror))) from None
+            from .files import read_implementation     # only GLSL inside the allowed roots is pasted in
+            self.external.append((full, read_implementation(full, path, loc, self.graph.doc_path)))
         args = [self.expr(s) for n, s in node.inputs.items() if s.type not in ("string", "geomname")]
         exprs = {}
         for oname, otype in node.outputs.items():

@@ -193,6 +193,10 @@ class Renderer:
 
     def image_texture(self, path):
         if path not in self._image_cache:
+            if os.path.exists(path):     # a missing file draws the default; a device or /proc file is an error
+                from .diagnostics import Loc
+                from .files import check_regular
+                check_regular(path, Loc(path, 0), "image file")
             try:
                 if path.lower().endswith(".ies"):     # measured_edf: the profile's 2-D texture (ies.py)
                     from .ies import load_texture
