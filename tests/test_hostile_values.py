@@ -361,3 +361,31 @@ def test_nested_struct_values_reach_the_shader(tmp_path, capsys, renderer):
     image = renderer.render(shader)
     centre = image[image.shape[0] // 2, image.shape[1] // 2]
     assert abs(centre[0] - (0.25 + 3.0 * 0.5)) < 1e-5, centre
+
+
+# ---------------------------------------------------------------- types without a GLSL spelling
+
+def test_an_input_of_unknown_type_is_refused_at_its_line(tmp_path, capsys, renderer):
+    lines = ['<nodedef name="ND_f" node="f">',
+             '  <input name="in" type="nope" />',
+             '  <output name="out" type="float" />',
+             '</nodedef>',
+             '<implementation name="IM_f" nodedef="ND_f" sourcecode="1.0" />',
+             '<f name="n" type="float" />',
+             '<output name="o" type="float" nodename="n" />']
+    status, err, _ = generate(tmp_path, lines, capsys, renderer)
+    assert_refused(status, err, 4, "a value of type 'nope' has no GLSL type")
+
+
+@pytest.mark.parametrize("type_name", ["geomname", "nope"])
+def test_a_node_output_without_glsl_type_is_refused_at_the_node(tmp_path, capsys, renderer, type_name):
+    lines = ['<nodedef name="ND_f" node="f"><output name="out" type="%s" /></nodedef>' % type_name,
+             '<nodedef name="ND_g" node="g"><input name="in" type="%s" /><output name="out" type="float" /></nodedef>'
+             % type_name,
+             '<implementation name="IM_f" nodedef="ND_f" sourcecode="1.0" />',
+             '<implementation name="IM_g" nodedef="ND_g" sourcecode="{{in}}" />',
+             '<f name="n" type="%s" />' % type_name,
+             '<g name="m" type="float"><input name="in" type="%s" nodename="n" /></g>' % type_name,
+             '<output name="o" type="float" nodename="m" />']
+    status, err, _ = generate(tmp_path, lines, capsys, renderer)
+    assert_refused(status, err, 7, "node 'n' (ND_f): a value of type '%s' has no GLSL type" % type_name)
