@@ -19,6 +19,16 @@ from .diagnostics import Loc, MtlxError
 
 MAX_DEPTH = 256          # MaterialX documents nest about 5 levels
 MAX_INCLUDES = 1024      # included files read for one document (a diamond of includes multiplies reads)
+MAX_ELEMENTS = 250_000   # elements of one document, includes counted (MaterialX's largest library: ~20,000)
+MAX_TOTAL_BYTES = 4 * files.MAX_TEXT_BYTES     # bytes read for one document, includes counted
+
+
+@dataclass
+class _Budget:
+    """What reading one document (with its includes) has used so far: every read and element counted."""
+    includes: int = 0
+    elements: int = 0
+    bytes: int = 0
 
 
 @dataclass
@@ -84,11 +94,12 @@ def _decode(data, path):
         raise MtlxError((Loc(path, line), "not valid %s text (byte 0x%02x)" % (codec, data[e.start]))) from None
 
 
-def parse_text(text, path):
+def parse_text(text, path, budget=None):
     """XML text (str, or bytes in the encoding they declare) -> root XElement.
 
     Raises MtlxError naming file and line on malformed XML, unsupported encodings, entity
-    declarations and elements nested deeper than MAX_DEPTH."""
+    declarations, elements nested deeper than MAX_DEPTH and more than MAX_ELEMENTS elements."""
+    budget = budget or _Budget()
     text = _decode(text, path)
     # filename tokens are written raw inside attribute values (MaterialX's reader accepts them)
     text = text.replace("<UDIM>", "&lt;UDIM&gt;").replace("<UVTILE>", "&lt;UVTILE&gt;")
@@ -100,6 +111,9 @@ def parse_text(text, path):
     def start(tag, attrs):
         if len(stack) >= MAX_DEPTH:
             raise _Refused("elements nest more than %d levels deep" % MAX_DEPTH)
+        budget.elements += 1
+        if budget.elements > MAX_ELEMENTS:
+            raise _Refused("more than %d elements (includes counted)" % MAX_ELEMENTS)
         el = XElement(tag, attrs, Loc(path, parser.CurrentLineNumber))
         if stack:
             stack[-1].children.append(el)
@@ -131,8 +145,12 @@ def parse_text(text, path):
     return root_holder[0]
 
 
-def _read_document(path, loc, what):
-    root = parse_text(files.read_bounded(path, loc, what), path)
+def _read_document(path, loc, what, budget):
+    data = files.read_bounded(path, loc, what)
+    budget.bytes += len(data)
+    if budget.bytes > MAX_TOTAL_BYTES:
+        raise MtlxError((loc, "the document and its includes are larger than %d MB" % (MAX_TOTAL_BYTES // 2 ** 20)))
+    root = parse_text(data, path, budget)
     if root.tag != "materialx":
         raise MtlxError((root.loc, "root element is <%s>, expected <materialx>" % root.tag))
     return root
@@ -143,9 +161,10 @@ def read_file(path, search_paths=()):
 
     Included files must be inside the document's folder, the search paths or the data libraries."""
     path = os.path.abspath(path)
-    root = _read_document(path, Loc(path, 0), "the document")
+    budget = _Budget()
+    root = _read_document(path, Loc(path, 0), "the document", budget)
     roots = files.allowed_roots(path, search_paths)
-    _expand_includes(root, path, search_paths, roots)
+    _expand_includes(root, path, search_paths, roots, budget)
     return root
 
 
@@ -153,10 +172,9 @@ def _is_include(el):
     return el.tag == "xi:include" or el.tag.endswith(":include") or el.tag == "include"
 
 
-def _expand_includes(root, path, search_paths, roots):
+def _expand_includes(root, path, search_paths, roots, budget):
     """Splice included documents in place, walking the tree with a work list (no recursion per level).
     Each element carries the chain of files that included it, for cycle detection."""
-    reads = [0]
     work = [(root, 1, (os.path.realpath(path),))]
     while work:
         el, depth, chain = work.pop()
@@ -165,7 +183,7 @@ def _expand_includes(root, path, search_paths, roots):
         while pending:
             child, child_chain = pending.pop()
             if _is_include(child):
-                target, sub = _read_include(child, search_paths, roots, child_chain, reads)
+                target, sub = _read_include(child, search_paths, roots, child_chain, budget)
                 pending.extend((g, child_chain + (target,)) for g in reversed(sub.children))
                 continue
             if depth >= MAX_DEPTH:
@@ -175,7 +193,7 @@ def _expand_includes(root, path, search_paths, roots):
         el.children = out
 
 
-def _read_include(el, search_paths, roots, chain, reads):
+def _read_include(el, search_paths, roots, chain, budget):
     """(real path, root XElement) of the document an include element names, its prefixes passed down."""
     href = el.get("href")
     if not href:
@@ -188,10 +206,10 @@ def _read_include(el, search_paths, roots, chain, reads):
     real = os.path.realpath(target)
     if real in chain:
         raise MtlxError((el.loc, "include cycle: %s includes itself" % href))
-    reads[0] += 1
-    if reads[0] > MAX_INCLUDES:
+    budget.includes += 1
+    if budget.includes > MAX_INCLUDES:
         raise MtlxError((el.loc, "more than %d included files" % MAX_INCLUDES))
-    sub = _read_document(os.path.abspath(target), el.loc, what)
+    sub = _read_document(os.path.abspath(target), el.loc, what, budget)
     # the included document's own version and prefixes apply to what came from it
     for grand in sub.children:
         for key in ("fileprefix", "geomprefix", "colorspace"):

@@ -249,6 +249,30 @@ def test_include_fan_out_is_bounded(tmp_path):
         document.load(str(tmp_path / "f0.mtlx"))
 
 
+def test_elements_are_counted_across_includes(tmp_path, monkeypatch):
+    monkeypatch.setattr(xmlreader, "MAX_ELEMENTS", 100)
+    write_doc(tmp_path, "<a/>" * 60, name="part.mtlx")
+    once = write_doc(tmp_path, include("part.mtlx"), name="once.mtlx")
+    assert len(xmlreader.read_file(once).children) == 60
+    twice = write_doc(tmp_path, include("part.mtlx") + "\n" + include("part.mtlx"), name="twice.mtlx")
+    with pytest.raises(MtlxError, match=r"part\.mtlx:3: more than 100 elements \(includes counted\)"):
+        xmlreader.read_file(twice)
+
+
+def test_bytes_read_are_counted_across_includes(tmp_path, monkeypatch):
+    part = write_doc(tmp_path, " " * 600, name="part.mtlx")
+    monkeypatch.setattr(xmlreader, "MAX_TOTAL_BYTES", 2 * os.path.getsize(part))
+    twice = write_doc(tmp_path, include("part.mtlx") + "\n" + include("part.mtlx"), name="twice.mtlx")
+    with pytest.raises(MtlxError, match=r"twice\.mtlx:4: the document and its includes are larger than"):
+        xmlreader.read_file(twice)
+
+
+def test_the_largest_data_library_reads_within_the_caps():
+    from mtlxgen.library import library_files
+    biggest = max(library_files(), key=os.path.getsize)
+    assert xmlreader.read_file(biggest).children
+
+
 # ---------------------------------------------------------------- textures: any regular file, no devices
 
 @pytest.mark.parametrize("name", ["/dev/zero", "/proc/self/environ"])
