@@ -8,6 +8,8 @@ into a float framebuffer; the result is linear RGBA with row 0 at the top.
 """
 import os
 import time
+from dataclasses import dataclass
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -107,6 +109,25 @@ def builtin_sky(width=512, height=256):
     return img.astype(np.float32)
 
 
+def scoreboard_sky(width=512, height=256):
+    """The scoreboard's sky (../shared/tools/mxharness.py's scene), row 0 = top. Its map frame is longitude
+    2 pi u measured from +x towards +z, latitude pi (0.5 - v). Above the horizon a blue (0.35, 0.55, 1) scaled
+    from 0.4 at the horizon to 1 at the zenith; below it a flat brown (0.25, 0.2, 0.15); a sun of 12 degrees
+    radius towards (0.5, 0.6, 0.62) adds 8 (1, 0.95, 0.85) times the square of a ramp that is 0 at its rim
+    and 1 at its centre."""
+    lon = 2.0 * np.pi * (np.arange(width) + 0.5) / width
+    lat = np.pi * (0.5 - (np.arange(height) + 0.5) / height)
+    lon, lat = np.meshgrid(lon, lat)
+    d = np.stack([np.cos(lat) * np.cos(lon), np.sin(lat), np.cos(lat) * np.sin(lon)], -1)
+    height_up = d[..., 1:2]
+    blue = np.array([0.35, 0.55, 1.0]) * (0.4 + 0.6 * np.clip(height_up, 0.0, 1.0))
+    img = np.where(height_up > 0.0, blue, np.array([0.25, 0.2, 0.15]))
+    sun = np.array([0.5, 0.6, 0.62]) / np.linalg.norm([0.5, 0.6, 0.62])
+    rim = np.cos(np.radians(12.0))
+    ramp = np.clip(((d * sun).sum(-1, keepdims=True) - rim) / (1.0 - rim), 0.0, 1.0)
+    return (img + 8.0 * ramp ** 2 * np.array([1.0, 0.95, 0.85])).astype(np.float32)
+
+
 def _latlong_directions(width, height):
     v = (np.arange(height) + 0.5) / height
     u = (np.arange(width) + 0.5) / width
@@ -144,26 +165,65 @@ def load_environment(path):
     return img[..., :3]
 
 
+# the lat-long frame of interface.md: x and z negated (the same as the shaders' default u_envMatrix)
+ENV_MATRIX = ((-1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, -1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What a Renderer binds around a shader besides the sphere and camera (which never change). The defaults
+    are mtlxgen's scene; SCOREBOARD_SCENE is the scoreboard's, so parity is measured where it is scored."""
+    sky: Callable = builtin_sky                 # the lat-long radiance when no environment is given
+    sh_irradiance: bool = True                  # u_envIrradiance: the SH irradiance map, or else the radiance map
+    env_matrix: Optional[tuple] = ENV_MATRIX    # None leaves the shader's own default
+    world_inverse: bool = True                  # False leaves u_worldInverseMatrix unset (all zeros)
+    associated_alpha: bool = False              # textures as OpenImageIO reads them by default: rgb times alpha
+    ies_profiles: bool = True                   # .ies files bound as measured_edf's profile; False: unreadable
+
+
+# ../shared/tools/mxharness.py: its sky bound as both radiance and irradiance, only the world, view-projection
+# and inverse-transpose matrices written, every texture file read by OpenImageIO's defaults
+SCOREBOARD_SCENE = Scene(sky=scoreboard_sky, sh_irradiance=False, env_matrix=None, world_inverse=False,
+                         associated_alpha=True, ies_profiles=False)
+
+
+def _read_associated(path):
+    """A texture file as OpenImageIO reads it unless told otherwise: alpha associated (the scoreboard's loader)."""
+    import OpenImageIO as oiio
+    buf = oiio.ImageBuf(path)
+    pixels = None if buf.has_error else buf.get_pixels(oiio.FLOAT)
+    if pixels is None:
+        raise OSError("cannot read image %s: %s" % (path, buf.geterror().strip()))
+    return np.asarray(pixels, dtype=np.float32).reshape(buf.spec().height, buf.spec().width, -1)
+
+
 class Renderer:
     """One GL context, one sphere, one environment; renders Shader objects (or vertex/fragment pairs)."""
 
-    def __init__(self, size=SIZE, environment=None, env_samples=ENV_SAMPLES, lights=()):
+    @classmethod
+    def scoreboard(cls, size=SIZE):
+        """A Renderer that draws what the scoreboard's harness draws (SCOREBOARD_SCENE)."""
+        return cls(size=size, scene=SCOREBOARD_SCENE)
+
+    def __init__(self, size=SIZE, environment=None, env_samples=ENV_SAMPLES, lights=(), scene=Scene()):
         import moderngl
         self.mgl = moderngl
         self.ctx = create_context()
         self.size = size
         self.env_samples = env_samples
+        self.scene = scene
         self.lights = list(lights)      # LightData records (lights.load_light_rig) bound to u_lightData[]
         self.fbo = self.ctx.framebuffer(color_attachments=[self.ctx.texture((size, size), 4, dtype="f4")],
                                         depth_attachment=self.ctx.depth_renderbuffer((size, size)))
         attrs, index = sphere()
         self.buffers = {k: (self.ctx.buffer(v.tobytes()), "%df" % v.shape[1]) for k, v in attrs.items()}
         self.index = self.ctx.buffer(index.tobytes())
-        env = builtin_sky() if environment is None else np.asarray(environment, dtype=np.float32)
+        env = scene.sky() if environment is None else np.asarray(environment, dtype=np.float32)
         # lat-long maps go up top row first: v = 0 is the top of the image (interface.md)
         self.env = self._float_texture(env, mipmaps=True, top_first=True)
         self.env_mips = int(np.floor(np.log2(max(env.shape[:2])))) + 1
-        self.irradiance = self._float_texture(irradiance_map(env), mipmaps=False, top_first=True)
+        self.irradiance = (self._float_texture(irradiance_map(env), mipmaps=False, top_first=True)
+                           if scene.sh_irradiance else self.env)
         self._image_cache = {}
 
     def __enter__(self):
@@ -198,9 +258,11 @@ class Renderer:
                 from .files import check_regular
                 check_regular(path, Loc(path, 0), "image file")
             try:
-                if path.lower().endswith(".ies"):     # measured_edf: the profile's 2-D texture (ies.py)
+                if path.lower().endswith(".ies") and self.scene.ies_profiles:   # measured_edf's profile (ies.py)
                     from .ies import load_texture
                     self._image_cache[path] = self._float_texture(load_texture(path), mipmaps=False, top_first=True)
+                elif self.scene.associated_alpha:
+                    self._image_cache[path] = self._float_texture(_read_associated(path), mipmaps=True)
                 else:
                     self._image_cache[path] = self._float_texture(read_image(path), mipmaps=True)
             except Exception:
@@ -253,8 +315,11 @@ class Renderer:
             view_proj = perspective(FOV_Y, 1.0, 0.1, 100.0) @ look_at(EYE, (0, 0, 0), (0, 1, 0))
             world = np.eye(4)
             mats = {"u_worldMatrix": world, "u_viewProjectionMatrix": view_proj,
-                    "u_worldInverseTransposeMatrix": np.linalg.inv(world).T, "u_worldInverseMatrix": np.linalg.inv(world),
-                    "u_envMatrix": np.diag([-1.0, 1.0, -1.0, 1.0])}
+                    "u_worldInverseTransposeMatrix": np.linalg.inv(world).T}
+            if self.scene.world_inverse:
+                mats["u_worldInverseMatrix"] = np.linalg.inv(world)
+            if self.scene.env_matrix is not None:
+                mats["u_envMatrix"] = np.array(self.scene.env_matrix)
             for name, m in mats.items():
                 if name in prog:
                     prog[name].write(np.ascontiguousarray(m.T, dtype="f4").tobytes())

@@ -5,7 +5,7 @@ import os
 import numpy as np
 import pytest
 
-from conftest import TESTSUITE
+from conftest import DATA_TESTSUITE
 from util import assert_parity_with_materialx, generate_one, write_doc
 
 CORPUS_FILES = [
@@ -17,7 +17,7 @@ CORPUS_FILES = [
 
 @pytest.mark.parametrize("parts", CORPUS_FILES, ids=lambda p: p[-1])
 def test_corpus_file_matches_materialx(parts, renderer, reference):
-    path = os.path.join(TESTSUITE, *parts)
+    path = os.path.join(DATA_TESTSUITE, *parts)
     elements = reference.elements(path)
     assert elements
     for element in elements:

@@ -5,13 +5,12 @@ import os
 
 import pytest
 
+from conftest import DATA_TESTSUITE
 from mtlxgen import compare
 from util import (assert_harness_parity, assert_parity_with_materialx, bsdf_material, generate_one,
                   render_with_materialx, write_doc)
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-JADE = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite", "stdlib",
-                    "units", "standard_surface_unit.mtlx")
+JADE = os.path.join(DATA_TESTSUITE, "stdlib", "units", "standard_surface_unit.mtlx")
 
 DIFFUSE = ('<oren_nayar_diffuse_bsdf name="a" type="BSDF"><input name="color" type="color3" value="0.8, 0.8, 0.8" />'
            '</oren_nayar_diffuse_bsdf>')

@@ -8,10 +8,8 @@ import os
 import numpy as np
 import pytest
 
+from conftest import DATA_EXAMPLES, EXAMPLES, corpus_params
 from util import assert_harness_parity as assert_parity, harness_render_ours as _ours, scoreboard_elements, write_doc
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-EXAMPLES = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "Examples")
 
 
 # Every element of MaterialX's Examples is at parity except the differences listed, with their reasons and
@@ -31,7 +29,8 @@ def _all_examples():
             yield pytest.param(path, element, id="%s:%s" % (name, element))
 
 
-@pytest.mark.parametrize("path, element", list(_all_examples()))
+@pytest.mark.corpus
+@pytest.mark.parametrize("path, element", corpus_params(_all_examples, width=2))
 def test_every_example_at_parity(harness, reference, cms_reference, path, element):
     cms = os.path.basename(path) in COLOR_MANAGED
     assert_parity(harness, cms_reference if cms else reference, path, element)
@@ -39,7 +38,7 @@ def test_every_example_at_parity(harness, reference, cms_reference, path, elemen
 
 def test_zero_weight_sheen_is_not_nan(harness):
     # gltf_pbr normalizes sheen_color by its maximum: 0 / 0 when sheen is off; the lobe's weight is 0
-    img = _ours(harness, os.path.join(EXAMPLES, "GltfPbr", "gltf_pbr_default.mtlx"), "Default")
+    img = _ours(harness, os.path.join(DATA_EXAMPLES, "GltfPbr", "gltf_pbr_default.mtlx"), "Default")
     assert np.isfinite(img).all()
     assert img[..., :3].max() > 0.05
 
@@ -99,14 +98,14 @@ def test_authored_value_does_not_replace_default_geomprop(harness, reference, tm
 def test_onyx_hextiled_at_parity_with_each_draw_fixed(harness, cms_reference, tmp_path):
     """Onyx differs from MaterialX only by its per-tile random numbers (docs/differences): with each range one
     value wide, the same tiles, blend and shading (its colour file is sRGB: MaterialX with its colour management)."""
-    src = os.path.join(EXAMPLES, "StandardSurface", "standard_surface_onyx_hextiled.mtlx")
+    src = os.path.join(DATA_EXAMPLES, "StandardSurface", "standard_surface_onyx_hextiled.mtlx")
     fixed = ('<input name="rotationrange" type="vector2" value="40, 40" />'
              '<input name="scalerange" type="vector2" value="1.4, 1.4" />'
              '<input name="offsetrange" type="vector2" value="0.3, 0.3" />')
     text = open(src).read().replace('<input name="falloff" type="float" interfacename="falloff" />',
                                     '<input name="falloff" type="float" interfacename="falloff" />' + fixed)
     text = text.replace('fileprefix="../../../Images/"', 'fileprefix="%s/"' % os.path.abspath(
-        os.path.join(EXAMPLES, "..", "..", "Images")))
+        os.path.join(DATA_EXAMPLES, "..", "..", "Images")))
     assert text.count("rotationrange") == 2
     path = os.path.join(str(tmp_path), "onyx_fixed.mtlx")
     open(path, "w").write(text)

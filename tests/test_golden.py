@@ -13,7 +13,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, TESTSUITE
+from conftest import DATA_TESTSUITE, ROOT
 from util import FAILURES, assert_parity_with_materialx
 
 from mtlxgen import batch, golden, images, report
@@ -313,7 +313,7 @@ def test_process_pool_matches_in_process():
 
 # ---------------------------------------------------------------- reference parity
 
-PARITY_FILES = [os.path.join(TESTSUITE, "stdlib", "math", "transform.mtlx")] + \
+PARITY_FILES = [os.path.join(DATA_TESTSUITE, "stdlib", "math", "transform.mtlx")] + \
     _examples(CHECKER, "unlit_normal_bands.mtlx", "unlit_hdr_rim.mtlx", "math_outputs.mtlx")
 
 

@@ -1,37 +1,16 @@
 """Microfacet BSDFs (dielectric, conductor, generalized_schlick): parity with MaterialX in the scoreboard's
-own harness (same sky bound to radiance and irradiance, 64 environment samples), and the directional
-albedo table of tools/ggx_albedo.py against an independent Monte Carlo estimate."""
+scene (conftest's `harness`: its sky bound to radiance and irradiance, 64 environment samples), and the
+directional albedo table of tools/ggx_albedo.py against an independent Monte Carlo estimate."""
 import os
 import sys
 
 import numpy as np
 import pytest
 
-from mtlxgen import compare, pipeline
-from util import save_side_by_side, write_doc
+from util import assert_harness_parity, write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-sys.path.insert(0, os.path.join(ROOT, "..", "shared", "tools"))
-
-
-@pytest.fixture(scope="module")
-def harness():
-    import mxharness
-    return mxharness.Harness(size=128)
-
-
-def assert_parity_in_harness(harness, reference, path, element):
-    """Ours and MaterialX's, both drawn by the scoreboard's harness: the scoreboard's exact conditions."""
-    shader = pipeline.generate(path, [element])[0]
-    ours, _ = harness.render(shader.vertex, shader.fragment,
-                             {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
-    vs, fs, tex, _ = reference.generate(path, element)
-    theirs, _ = harness.render(vs, fs, tex)
-    p = compare.parity(ours, theirs)
-    if not p.passes:
-        where = save_side_by_side(os.path.basename(path) + "_" + element, ours, theirs)
-        raise AssertionError("%s: %s (side by side: %s)" % (element, p, where))
 
 
 def surface(bsdf):
@@ -75,7 +54,7 @@ CASES = {
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_microfacet_bsdf_matches_materialx(name, harness, reference, tmp_path):
     path = write_doc(tmp_path, surface(CASES[name]), name=name + ".mtlx")
-    assert_parity_in_harness(harness, reference, path, "g/out")
+    assert_harness_parity(harness, reference, path, "g/out")
 
 
 def test_albedo_table_matches_monte_carlo():

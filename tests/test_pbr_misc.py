@@ -6,13 +6,13 @@ import sys
 import numpy as np
 import pytest
 
+from conftest import DATA
 from mtlxgen import pipeline
 from mtlxgen.lights import load_light_rig
 from mtlxgen.render import EYE, FOV_Y, Renderer
 from util import assert_parity_with_materialx, write_doc
 
-RIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "corpus", "materialx",
-                   "resources", "Lights", "san_giuseppe_bridge_split.mtlx")
+RIG = os.path.join(DATA, "resources", "Lights", "san_giuseppe_bridge_split.mtlx")
 
 BSDFS = {
     "eon": '<oren_nayar_diffuse_bsdf name="b" type="BSDF"><input name="color" type="color3" value="0.6, 0.3, 0.2" />'

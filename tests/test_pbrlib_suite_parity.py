@@ -7,10 +7,11 @@ import os
 import numpy as np
 import pytest
 
+from conftest import DATA_TESTSUITE, TESTSUITE, corpus_params
 from util import assert_harness_parity, scoreboard_elements
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-PBRLIB = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite", "pbrlib")
+PBRLIB = os.path.join(TESTSUITE, "pbrlib")
 DIFFERENCES_DOC = os.path.join(ROOT, "docs", "differences")
 
 # (document, element) -> the image under docs/differences/<document>/ that shows the difference
@@ -33,7 +34,8 @@ def _elements():
     return params
 
 
-@pytest.mark.parametrize("path, element", _elements())
+@pytest.mark.corpus
+@pytest.mark.parametrize("path, element", corpus_params(_elements, width=2))
 def test_pbrlib_element_at_parity(harness, reference, path, element):
     try:
         theirs = reference.generate(path, element)
@@ -55,7 +57,7 @@ def test_every_listed_difference_is_documented_with_an_image():
 # in a uniform environment brighter than the environment itself); ours does not. Smooth, the two agree.
 
 def _transp_hint(tmp_path, roughness):
-    src = os.path.join(PBRLIB, "surfaceshader", "transparency_hints.mtlx")
+    src = os.path.join(DATA_TESTSUITE, "pbrlib", "surfaceshader", "transparency_hints.mtlx")
     text = open(src).read().replace(
         '<input name="transmission_weight" type="float" value="0.8" />',
         '<input name="transmission_weight" type="float" value="0.8" />'

@@ -6,19 +6,17 @@ import os
 
 import pytest
 
+from conftest import DATA_IMAGES, DATA_TESTSUITE
 from mtlxgen import pipeline
 from util import assert_harness_parity as assert_parity, write_doc
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SURFACESHADER = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite",
-                             "pbrlib", "surfaceshader")
+SURFACESHADER = os.path.join(DATA_TESTSUITE, "pbrlib", "surfaceshader")
 
 
 def _corpus_copy(tmp_path, name):
     # the corpus's image paths are relative to the resources' parent: make them absolute
-    images = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Images")
     with open(os.path.join(SURFACESHADER, name)) as f:
-        text = f.read().replace("resources/Images", os.path.abspath(images))
+        text = f.read().replace("resources/Images", os.path.abspath(DATA_IMAGES))
     path = os.path.join(str(tmp_path), name)
     with open(path, "w") as f:
         f.write(text)
@@ -100,8 +98,7 @@ def test_bsdf_normal_of_any_length_shades_as_its_direction(renderer, tmp_path, l
 
 def test_metal_definition_with_a_unit_normal_matches_materialx(harness, reference, tmp_path):
     """metal_definition.mtlx differs only by its non-unit default normal (docs/differences): made unit, at parity."""
-    src = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite",
-                       "libraries", "metal", "libraries", "metal_definition.mtlx")
+    src = os.path.join(DATA_TESTSUITE, "libraries", "metal", "libraries", "metal_definition.mtlx")
     text = open(src).read()
     unit = text.replace('name="SurfaceNormal" type="vector3" value="1, 1, 1"',
                         'name="SurfaceNormal" type="vector3" value="0.57735027, 0.57735027, 0.57735027"')

@@ -10,12 +10,13 @@ import sys
 import numpy as np
 import pytest
 
+from conftest import DATA_IMAGES, DATA_TESTSUITE, REFERENCE_SEARCH
 from mtlxgen import compare, images
 from mtlxgen.diagnostics import MtlxError
 from util import assert_parity_with_materialx, generate_one, write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-IMAGES = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Images")
+IMAGES = DATA_IMAGES
 GRID = os.path.abspath(os.path.join(IMAGES, "grid.png"))
 CLOTH = os.path.abspath(os.path.join(IMAGES, "cloth.png"))
 HEIGHT = os.path.abspath(os.path.join(IMAGES, "plain_heightmap.png"))
@@ -25,7 +26,7 @@ BRICK_NORMAL = os.path.abspath(os.path.join(IMAGES, "brick_normal.jpg"))
 @pytest.fixture(scope="module")
 def reference_cm():
     from mtlxgen.reference import MaterialXReference
-    return MaterialXReference([os.path.join(ROOT, "..", "shared", "corpus", "materialx")], color_management=True)
+    return MaterialXReference(REFERENCE_SEARCH, color_management=True)
 
 
 @pytest.fixture(scope="module")
@@ -132,8 +133,7 @@ def test_udim_tiles_get_one_sampler_each(renderer, tmp_path):
 
 def test_corpus_udim_file_parses_and_expands(tmp_path):
     from mtlxgen import pipeline
-    udim = os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials", "TestSuite",
-                        "stdlib", "texture", "udim.mtlx")
+    udim = os.path.join(DATA_TESTSUITE, "stdlib", "texture", "udim.mtlx")
     doc = pipeline.load_document(udim)
     assert "<UDIM>" in doc.nodes["image_color"].inputs["file"].value
 

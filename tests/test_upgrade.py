@@ -4,7 +4,7 @@ import os
 
 import pytest
 
-from conftest import TESTSUITE
+from conftest import DATA_TESTSUITE
 from util import assert_parity_with_materialx, write_doc
 
 from mtlxgen import document, pipeline
@@ -172,7 +172,7 @@ def test_current_documents_are_left_alone(tmp_path):
 
 def test_corpus_upgrade_documents_build(library):
     from mtlxgen import graph
-    folder = os.path.join(TESTSUITE, "stdlib", "upgrade")
+    folder = os.path.join(DATA_TESTSUITE, "stdlib", "upgrade")
     for name in ("syntax_1_22.mtlx", "syntax_1_25.mtlx", "syntax_1_37.mtlx", "syntax_1_38.mtlx"):
         doc = pipeline.load_document(os.path.join(folder, name))
         elements = graph.renderable_elements(doc)

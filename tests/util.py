@@ -58,20 +58,20 @@ def assert_parity_with_materialx(renderer, reference, path, element):
 
 
 def harness_render_ours(harness, path, element):
-    """Our shader for one element drawn by the scoreboard's harness (../shared/tools/mxharness.py)."""
-    harness.ctx.__enter__()   # the harness's GL context current again: the tests' Renderers make theirs current
+    """Our shader for one element drawn by `harness` (a Renderer in the scoreboard's scene) as the scoreboard
+    draws it: texture files bound by uniform name, no default colours for unreadable ones."""
     shader = pipeline.generate(path, [element])[0]
-    img, _ = harness.render(shader.vertex, shader.fragment,
-                            {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
+    img, _ = harness.render_timed(shader.vertex, shader.fragment, None,
+                                  {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
     return img
 
 
 def assert_harness_parity(harness, reference, path, element, theirs_shader=None):
-    """Ours and MaterialX's for one element, both drawn by the scoreboard's harness, at parity.
-    theirs_shader: MaterialX's (vertex, fragment, textures, seconds) when the caller generated it already."""
+    """Ours and MaterialX's for one element, both drawn in the scoreboard's scene (conftest's `harness`), at
+    parity. theirs_shader: MaterialX's (vertex, fragment, textures, seconds) when the caller generated it already."""
     vs, fs, tex, _ = theirs_shader or reference.generate(path, element)
-    ours = harness_render_ours(harness, path, element)      # (makes the harness's context current)
-    theirs, _ = harness.render(vs, fs, tex)
+    ours = harness_render_ours(harness, path, element)
+    theirs, _ = harness.render_timed(vs, fs, None, tex)
     p = compare.parity(ours, theirs)
     if not p.passes:
         where = save_side_by_side(os.path.basename(path) + "_" + element.replace("/", "_"), ours, theirs)

@@ -1,51 +1,55 @@
 #!/usr/bin/env python3
-"""Developer tool: our render vs MaterialX's for elements of one document, in the scoreboard's own
-harness (../shared/tools/mxharness.py), with side-by-side images (ours | MaterialX | diff x8).
+"""Developer tool: our render vs MaterialX's for elements of one document, both drawn in the scoreboard's
+scene (mtlxgen.render.Renderer.scoreboard), with side-by-side images (ours | MaterialX | diff x8).
 
 usage: tools/parity.py FILE.mtlx [ELEMENT ...] [--out DIR] [--color-management]
+Images go to --out, or else to a fresh temporary directory (printed).
 --color-management turns MaterialX's colour-management system on (the scoreboard runs without one).
 """
 import argparse
 import os
 import sys
+import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
-sys.path.insert(0, os.path.join(ROOT, "..", "shared", "tools"))
+# MaterialX resolves resources/... file names against the scoreboard's corpus where it exists
+CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
 
 import numpy as np  # noqa: E402
 
 from mtlxgen import compare, images, pipeline  # noqa: E402
 from mtlxgen.diagnostics import MtlxError  # noqa: E402
 from mtlxgen.reference import MaterialXReference  # noqa: E402
+from mtlxgen.render import Renderer  # noqa: E402
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("file")
     ap.add_argument("elements", nargs="*")
-    ap.add_argument("--out", default="/tmp/parity")
+    ap.add_argument("--out", default=None, help="folder for the images (default: a new temporary folder)")
     ap.add_argument("--color-management", action="store_true")
     args = ap.parse_args()
-    import mxharness
-    ref = MaterialXReference([os.path.join(ROOT, "..", "shared", "corpus", "materialx")],
-                             color_management=args.color_management)
-    harness = mxharness.Harness()
+    ref = MaterialXReference([CORPUS] if os.path.isdir(CORPUS) else [], color_management=args.color_management)
+    harness = Renderer.scoreboard()
     path = os.path.abspath(args.file)
-    os.makedirs(args.out, exist_ok=True)
+    out_dir = args.out or tempfile.mkdtemp(prefix="parity-")
+    os.makedirs(out_dir, exist_ok=True)
+    print("images in %s" % out_dir)
     passed = total = 0
     for element in args.elements or ref.elements(path):
         total += 1
         try:
             vs, fs, tex, _ = ref.generate(path, element)
-            theirs, _ = harness.render(vs, fs, tex)
+            theirs, _ = harness.render_timed(vs, fs, None, tex)
         except Exception as e:
             print("%-40s MaterialX cannot render it: %s" % (element, str(e).splitlines()[0][:80]))
             continue
         try:
             shader = pipeline.generate(path, [element])[0]
-            mine, _ = harness.render(shader.vertex, shader.fragment,
-                                     {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
+            mine, _ = harness.render_timed(shader.vertex, shader.fragment, None,
+                                           {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
         except MtlxError as e:
             print("%-40s ours: %s" % (element, e.lines()[0]))
             continue
@@ -57,7 +61,7 @@ def main():
         a, b = images.to_srgb8(mine)[..., :3], images.to_srgb8(theirs)[..., :3]
         d = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(-1)
         heat = np.repeat(np.clip(d * 8, 0, 255)[..., None], 3, -1).astype(np.uint8)
-        out = os.path.join(args.out, element.replace("/", "_") + ".png")
+        out = os.path.join(out_dir, element.replace("/", "_") + ".png")
         images.write_image(out, np.concatenate([a, b, heat], axis=1))
         print("%-40s %s  %s  %s" % (element, "PASS" if p.passes else "FAIL", p, out))
     print("%d / %d at parity" % (passed, total))
