@@ -22,6 +22,11 @@ _KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device")
           (stat.S_ISSOCK, "a socket"), (stat.S_ISDIR, "a folder"))
 
 
+def quoted(name):
+    """A name from a document as problem lines show it: quoted, control characters escaped (one line)."""
+    return repr(name)
+
+
 def _kind(mode):
     for test, name in _KINDS:
         if test(mode):
@@ -127,7 +132,7 @@ def read_implementation(full, name, loc, doc_path):
     file inside the document's folder, the search paths, the data libraries, or the folder of the
     (already admitted) file declaring it."""
     from .resolve import search_paths
-    what = "implementation file '%s'" % name
+    what = "implementation file %s" % quoted(name)
     if not full.lower().endswith(GLSL_EXTENSIONS):
         raise MtlxError((loc, "%s is not a GLSL source (%s)" % (what, ", ".join(GLSL_EXTENSIONS))))
     roots = allowed_roots(doc_path, search_paths(), extra=[os.path.dirname(os.path.abspath(loc.file))])

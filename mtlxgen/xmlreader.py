@@ -79,7 +79,8 @@ def _encoding_of(data, path):
     except LookupError:
         codec = None
     if codec is None or not (codec in _ENCODINGS or _single_byte(codec)):
-        raise MtlxError((Loc(path, 1), "unsupported encoding '%s' (read: UTF-8, UTF-16, ASCII, single-byte)" % name))
+        raise MtlxError((Loc(path, 1), "unsupported encoding %s (read: UTF-8, UTF-16, ASCII, single-byte)"
+                                       % files.quoted(name)))
     return codec
 
 
@@ -198,14 +199,14 @@ def _read_include(el, search_paths, roots, chain, budget):
     href = el.get("href")
     if not href:
         raise MtlxError((el.loc, "xi:include without href"))
-    what = "xi:include '%s'" % href
+    what = "xi:include %s" % files.quoted(href)
     target = find_file(href, os.path.dirname(el.loc.file), search_paths)
     if target is None:
-        raise MtlxError((el.loc, "included file not found: %s" % href))
+        raise MtlxError((el.loc, "included file not found: %s" % files.quoted(href)))
     files.check_inside(target, roots, el.loc, what)
     real = os.path.realpath(target)
     if real in chain:
-        raise MtlxError((el.loc, "include cycle: %s includes itself" % href))
+        raise MtlxError((el.loc, "include cycle: %s includes itself" % files.quoted(href)))
     budget.includes += 1
     if budget.includes > MAX_INCLUDES:
         raise MtlxError((el.loc, "more than %d included files" % MAX_INCLUDES))

@@ -160,6 +160,15 @@ def test_include_outside_the_document_folder_is_refused(tree, capsys):
                                   r"search paths" % re.escape(href))
 
 
+@pytest.mark.parametrize("name", ["a&#10;b", "../x&#13;y", "/etc/&#10;passwd"])
+def test_names_with_line_breaks_stay_on_one_problem_line(tmp_path, capsys, name):
+    for body, line in ((include(name + ".mtlx"), 3), (IMPL_DOC % (name + ".glsl"), 8)):
+        path = write_doc(tmp_path, body)
+        code, err = run_cli(capsys, "generate", path, "-o", str(tmp_path / "out"))
+        assert code == 1
+        assert_one_file_line(err, r"doc\.mtlx:%d: .*'[^']*\\[nr][^']*'" % line)
+
+
 def test_any_prefix_include_follows_the_same_rule(tree):
     root, _ = tree
     write_doc(root / "outside", '<constant name="c" type="float" />', name="other.mtlx")
@@ -338,7 +347,8 @@ def test_undeclared_entity_is_malformed_xml():
 @pytest.mark.parametrize("codec", ["utf-16", "utf-16-le", "utf-16-be", "utf-8-sig"])
 def test_unicode_documents_with_and_without_byte_order_marks_are_read(codec):
     text = ('<?xml version="1.0" encoding="%s"?>\n<materialx version="1.39">\n'
-            '  <image name="caf\u00e9" type="color3"><input name="file" type="filename" value="t.<UDIM>.png"/></image>\n'
+            '  <image name="caf\u00e9" type="color3">'
+            '<input name="file" type="filename" value="t.<UDIM>.png"/></image>\n'
             '</materialx>\n') % codec.replace("-sig", "")
     root = parse_text(text.encode(codec), "x.mtlx")
     assert root.children[0].get("name") == "caf\u00e9"
