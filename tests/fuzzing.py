@@ -75,12 +75,15 @@ class Mutator:
         rng = self.rng
         for _ in range(rng.choice([1, 1, 1, 2, 2, 3, 4])):
             op = rng.random()
-            if op < 0.08:
+            try:
+                if op < 0.08:
+                    text = self.bytes_edit(text)
+                elif op < 0.7:
+                    text = self.tree_edit(text)
+                else:
+                    text = self.materialx_edit(text)
+            except RecursionError:      # ElementTree recurses per level on a deeply nested document
                 text = self.bytes_edit(text)
-            elif op < 0.7:
-                text = self.tree_edit(text)
-            else:
-                text = self.materialx_edit(text)
         return text
 
     # ---- bytes
