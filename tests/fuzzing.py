@@ -20,7 +20,9 @@ import io
 import os
 import random
 import re
+import shutil
 import signal
+import subprocess
 import sys
 import xml.etree.ElementTree as ET
 
@@ -342,7 +344,26 @@ def run_case(text, case_dir, compile_program, roots):
                 compile_program(vs, fs)
             except Exception as e:
                 failures.append("%s does not compile: %s" % (stem, str(e).strip().splitlines()[-1:]))
+                continue
+            for ext in (".vert", ".frag"):
+                error = reference_compiler_error(os.path.join(out, stem + ext))
+                if error:
+                    failures.append("%s%s is not valid to glslangValidator: %s" % (stem, ext, error))
     return failures
+
+
+GLSLANG = shutil.which("glslangValidator")
+
+
+def reference_compiler_error(path):
+    """glslangValidator's first ERROR line for a .vert/.frag file, or None (also when it is not installed:
+    Mesa's link above still runs; .ci/run installs glslang-tools)."""
+    if GLSLANG is None:
+        return None
+    r = subprocess.run([GLSLANG, path], capture_output=True, text=True, timeout=60)
+    if r.returncode == 0:
+        return None
+    return next((l for l in r.stdout.splitlines() if l.startswith("ERROR")), "exit %d" % r.returncode)
 
 
 def cases(seed, count, case_dir):
