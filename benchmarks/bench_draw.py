@@ -2,7 +2,8 @@
 """Draw time of our shaders over MaterialX's, for the same elements in the same harness and run.
 
 usage: bench_draw.py [FILE.mtlx ...] [--repeat N] [--size N] [--environment fis|prefiltered] [--skip PATTERN]
-Default files: the corpus Examples (StandardSurface, OpenPbr, GltfPbr, UsdPreviewSurface, ...).
+Default files: the corpus Examples (StandardSurface, OpenPbr, GltfPbr, UsdPreviewSurface, ...) of
+../shared/corpus, or where that is absent (a clone) the two Examples copied in tests/data/materialx.
 Each element is drawn --repeat times per shader (after one warm-up draw); the median draw time of
 each is kept and the totals' ratio printed. On machines without a GPU this measures Mesa's llvmpipe;
 run it where a GPU is lent to measure hardware. Timings only: nothing asserts.
@@ -22,6 +23,8 @@ from mtlxgen.reference import MaterialXReference  # noqa: E402
 from mtlxgen.render import Renderer  # noqa: E402
 
 CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
+if not os.path.isdir(CORPUS):
+    CORPUS = os.path.join(ROOT, "tests", "data", "materialx")
 DEFAULT = sorted(glob.glob(os.path.join(CORPUS, "resources", "Materials", "Examples", "*", "*.mtlx")))
 
 

@@ -2,9 +2,9 @@
 """Generation time per element: mtlxgen vs MaterialX's GenGlsl, measured in the same process.
 
 usage: bench_generate.py [FILE.mtlx ...] [--repeat N]
-Default files: the TestSuite stdlib math documents of ../shared/corpus. Prints per-file medians and
-the overall ratio (ours / MaterialX); also library load times (cold parse and warm cache; target
-< 0.2 s warm). Timings only: nothing here asserts, machines are shared and noisy.
+Default files: the TestSuite stdlib math documents of ../shared/corpus (of tests/data/materialx where
+../shared is absent). Prints per-file medians and the overall ratio (ours / MaterialX); also library
+load times (cold parse and warm cache; target < 0.2 s warm). Timings only: nothing here asserts, machines are shared and noisy.
 """
 import argparse
 import glob
@@ -21,8 +21,10 @@ from mtlxgen import document, emit, graph, library  # noqa: E402
 from mtlxgen.diagnostics import MtlxError  # noqa: E402
 from mtlxgen.reference import MaterialXReference  # noqa: E402
 
-DEFAULT = sorted(glob.glob(os.path.join(ROOT, "..", "shared", "corpus", "materialx", "resources", "Materials",
-                                        "TestSuite", "stdlib", "math", "*.mtlx")))
+CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
+if not os.path.isdir(CORPUS):
+    CORPUS = os.path.join(ROOT, "tests", "data", "materialx")
+DEFAULT = sorted(glob.glob(os.path.join(CORPUS, "resources", "Materials", "TestSuite", "stdlib", "math", "*.mtlx")))
 
 
 def library_load_times():
