@@ -76,7 +76,7 @@ def _encoding_of(data, path):
     name = m.group(2).decode("ascii", "replace")
     try:
         codec = codecs.lookup(name).name
-    except LookupError:
+    except (LookupError, ValueError):    # ValueError: a NUL inside the name
         codec = None
     if codec is None or not (codec in _ENCODINGS or _single_byte(codec)):
         raise MtlxError((Loc(path, 1), "unsupported encoding %s (read: UTF-8, UTF-16, ASCII, single-byte)"

@@ -366,13 +366,14 @@ def test_single_byte_encodings_are_read_as_declared(codec):
     assert root.children[0].get("name") == name
 
 
-@pytest.mark.parametrize("name", ["utf-7", "UTF-7", "utf-32", "shift_jis", "hz", "rot13", "no-such-encoding"])
+@pytest.mark.parametrize("name", ["utf-7", "UTF-7", "utf-32", "shift_jis", "hz", "rot13", "no-such-encoding", "utf\x00-7"])
 def test_unsupported_encodings_are_refused_with_file_and_line(tmp_path, capsys, name):
     p = tmp_path / "enc.mtlx"
     p.write_bytes(('<?xml version="1.0" encoding="%s"?>\n<materialx version="1.39">\n</materialx>\n' % name).encode())
     code, err = run_cli(capsys, "generate", str(p), "-o", str(tmp_path / "out"))
     assert code == 1
-    assert_one_file_line(err, r"enc\.mtlx:1: unsupported encoding '%s'" % re.escape(name))
+    shown = name.encode("unicode_escape").decode()          # a NUL in the name is shown escaped
+    assert_one_file_line(err, r"enc\.mtlx:1: unsupported encoding '%s'" % re.escape(shown))
 
 
 def test_utf32_byte_order_mark_is_refused():
