@@ -64,7 +64,6 @@ def reference():
         pytest.fail(str(e))
 
 
-
 @pytest.fixture(scope="session")
 def cms_reference():
     """MaterialX's GenGlsl with its colour management on (sRGB files converted as the spec says)."""
