@@ -34,6 +34,7 @@ class Shader:
     fragment: str
     manifest: dict = field(default_factory=dict)
     stem: str = None                  # file name stem (file_stem(element) unless unique_stems changed it)
+    document_code: list = field(default_factory=list)   # Emitter.document_code: a document's own GLSL in it
 
     def __post_init__(self):
         if self.stem is None:
@@ -149,6 +150,7 @@ class Emitter:
         self.conditions = {}          # closure node id -> GLSL condition under which it is needed (None: always)
         self.indent = 1
         self.current = None           # the node being emitted (errors of the streams it asks for name it)
+        self.document_code = []       # [((name, Loc) of a document's <implementation>, {GLSL lines it made})]
 
     # ---------- services for templates and handlers ----------
     def fail(self, node, message):
@@ -341,6 +343,7 @@ class Emitter:
             expr = "(%s) ? %s : %s" % (cond, expr, mxtypes.closure_zero(src.type))
         var = self.fresh("%s_%s" % (node.id, src.output))
         self.line("%s %s = %s;" % (self.glsl_type(src.type), var, expr))
+        self.note_document_code(impl, self.body[-1:])
         self.closure_vars[key] = var
         return var
 
@@ -379,11 +382,23 @@ class Emitter:
         for node_id, c in conds.items():
             self.conditions.setdefault(node_id, c)
 
+    def note_document_code(self, impl, lines):
+        """Remember the lines a document's own GLSL went into: a compile error in one of them is reported
+        at that <implementation> (glslcheck.py)."""
+        if impl.source is None:
+            return
+        entry = next((e for e in self.document_code if e[0] == impl.source), None)
+        if entry is None:
+            entry = (impl.source, set())
+            self.document_code.append(entry)
+        entry[1].update(line.strip() for line in lines if line.strip())
+
     def emit_node(self, node):
         self.current = node
         impl = nodes.lookup(node.nodedef, self.graph.library)
         if impl is None:
             self.fail(node, "no GLSL implementation for nodedef %s" % node.nodedef.name)
+        first_line, first_file = len(self.body), len(self.external)
         if node.outputs and all(t in CLOSURE_TYPES for t in node.outputs.values()):
             for f in impl.files:
                 self.require(f)
@@ -412,6 +427,8 @@ class Emitter:
             var = self.fresh("%s_%s" % (node.id, oname))
             self.line("%s %s = %s;" % (self.glsl_type(otype), var, e))
             self.vars[(node.id, oname)] = var
+        self.note_document_code(impl, self.body[first_line:] + [
+            line for _, text in self.external[first_file:] for line in text.splitlines()])
 
     def external_call(self, node, external):
         path, function, loc = external
@@ -580,7 +597,8 @@ class Emitter:
         }
         if lit:
             manifest["environment"] = self.environment
-        return Shader(g.element, vertex, fragment, manifest)
+        code = self.document_code + (vertex_emitter.document_code if vertex_emitter is not None else [])
+        return Shader(g.element, vertex, fragment, manifest, document_code=code)
 
     def manifest_uniform(self, u):
         value = u.value

@@ -1,7 +1,7 @@
 """The whole pipeline for one document: read, resolve, build each element's graph, emit GLSL."""
 import os
 
-from . import document, emit, graph, library
+from . import document, emit, glslcheck, graph, library
 from .diagnostics import Loc, MtlxError, Problems
 from .resolve import search_paths
 
@@ -35,7 +35,7 @@ class Session:
         return graph.build_graph(self.doc, self.library, name, usd_seed_rules=self.usd_seed_rules)
 
     def shader(self, name):
-        return emit.emit(self.graph(name), environment=self.environment)
+        return glslcheck.check(emit.emit(self.graph(name), environment=self.environment))
 
 
 def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis"):

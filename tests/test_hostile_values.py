@@ -169,6 +169,17 @@ def sourcecode_doc(source):
     ("{{in}}]", "unbalanced brackets"),
     ("(1.0]", "unbalanced brackets"),
     ("  ", "empty sourcecode"),
+    ("material", "names 'material', which is neither a field nor one of GLSL's built-in"),
+    ("M_PI * {{in}}", "names 'M_PI'"),
+    ("2.5.0", "follows a value without an operator"),
+    ("99999999999 * {{in}}", "does not fit in 32 bits"),
+    ("1e39", "beyond the range of a 32-bit float"),
+    ("09", "no octal literal"),
+    ("{{in}} +", "it ends in '+'"),
+    ("{{in}} = 1.0", "it holds '='"),
+    ("{{in}}++", "it holds '++'"),
+    ("(1.0)(2.0)", "follows a value that is no function"),
+    ("\u00e9", "it holds '\u00e9'"),
 ])
 def test_malformed_sourcecode_is_refused_at_the_implementation(tmp_path, capsys, renderer, source, why):
     lines = sourcecode_doc(source)
@@ -183,6 +194,38 @@ def test_wellformed_sourcecode_compiles(tmp_path, capsys, renderer, source):
     status, err, out = generate(tmp_path, sourcecode_doc(source), capsys, renderer)
     assert status == 0, err
     assert written_stems(out) == ["o"]
+
+
+@pytest.mark.parametrize("source,why", [
+    ("true", "initializer of type bool"), ("{{in}}.zz", "zz"), ("vec3({{in}})", "vec3"),
+    ("sin({{in}}, 1.0)", "sin")])
+def test_sourcecode_that_does_not_compile_is_refused_at_the_implementation(tmp_path, capsys, renderer, source, why):
+    # well-formed text, wrong types: the shader holding it is compiled before it is written
+    lines = sourcecode_doc(source)
+    status, err, out = generate(tmp_path, lines, capsys, renderer)
+    assert_refused(status, err, line_of(lines, "<implementation"), "implementation 'IM_f': its GLSL does not compile",
+                   why)
+    assert written_stems(out) == []
+
+
+def test_a_compile_error_is_reported_at_the_implementation_whose_code_fails(tmp_path, capsys, renderer):
+    with open(os.path.join(str(tmp_path), "g.glsl"), "w") as f:
+        f.write("void g_fn(float x, out float r)\n{\n    r = x.yy;\n}\n")
+    lines = ['<nodedef name="ND_a" node="a"><input name="in" type="float" value="0.5" /><output name="out" type="float" /></nodedef>',
+             '<implementation name="IM_a" nodedef="ND_a" sourcecode="{{in}} * 2.0" />',
+             '<nodedef name="ND_b" node="b"><input name="in" type="float" value="0.5" /><output name="out" type="float" /></nodedef>',
+             '<implementation name="IM_b" nodedef="ND_b" sourcecode="{{in}}.yy" />',
+             '<nodedef name="ND_g" node="g"><input name="in" type="float" value="0.5" /><output name="out" type="float" /></nodedef>',
+             '<implementation name="IM_g" nodedef="ND_g" file="g.glsl" function="g_fn" />',
+             '<a name="na" type="float" />',
+             '<b name="nb" type="float"><input name="in" type="float" nodename="na" /></b>',
+             '<g name="ng" type="float"><input name="in" type="float" nodename="na" /></g>',
+             '<output name="ob" type="float" nodename="nb" />',
+             '<output name="og" type="float" nodename="ng" />']
+    status, err, _ = generate(tmp_path, lines, capsys, renderer)
+    assert status == 1
+    assert [e.split(": ", 1)[0].rsplit(":", 1)[1] + " " + e.split(": ", 2)[1] for e in err] == \
+        ["6 implementation 'IM_b'", "8 implementation 'IM_g'"], err
 
 
 def test_an_implementation_function_that_is_no_identifier_is_refused(tmp_path, capsys, renderer):

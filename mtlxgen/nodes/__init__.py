@@ -38,6 +38,7 @@ class Impl:
     closure: dict = None                          # context -> template (closure nodes)
     external: tuple = None                        # (GLSL file path, function) from a document's <implementation>
     origin: str = "mtlxgen"
+    source: tuple = None                          # (name, Loc) of a document's <implementation>
 
 
 def _normalize(entry, origin):
@@ -67,73 +68,21 @@ def lookup(nodedef, library):
     doc_impl = library.implementations.get(nodedef.name)
     if doc_impl is not None and nodedef.source in ("document", "user"):
         if doc_impl.sourcecode is not None:
-            problem = template_problem(doc_impl.sourcecode, nodedef)
+            from ..sourcecode import problem as sourcecode_problem
+            problem = sourcecode_problem(doc_impl.sourcecode, nodedef, library.structs)
             if problem:
                 raise MtlxError((doc_impl.loc, "implementation '%s': %s" % (doc_impl.name, problem)))
-            return Impl(outputs={"*": doc_impl.sourcecode}, origin="document")
+            return Impl(outputs={"*": doc_impl.sourcecode}, origin="document", source=(doc_impl.name, doc_impl.loc))
         if doc_impl.file and doc_impl.function:
             from ..graph import glsl_identifier
             if glsl_identifier(doc_impl.function) != doc_impl.function:     # also refuses GLSL's reserved words
                 raise MtlxError((doc_impl.loc, "implementation '%s': function %r is not a GLSL identifier free "
                                                "for a document's use" % (doc_impl.name, doc_impl.function)))
-            return Impl(external=(doc_impl.file, doc_impl.function, doc_impl.loc), origin="document")
+            return Impl(external=(doc_impl.file, doc_impl.function, doc_impl.loc), origin="document",
+                        source=(doc_impl.name, doc_impl.loc))
     if nodedef.name in library.graph_impls:
         return None
     return BY_CATEGORY.get(nodedef.category)
-
-
-# A document's sourcecode is pasted into `TYPE var = EXPRESSION;`: these would end the expression or the
-# line early, or hide the rest of it, so a template holding one could never be one expression.
-_BREAKS_EXPRESSION = (";", "{", "}", "//", "/*", "*/", "#", "\\")
-
-
-def template_problem(template, nodedef):
-    """Why `template` (a document's inline sourcecode) cannot implement `nodedef`, or None.
-
-    Every {{field}} must name an input of the nodedef ({{in}}, {{=in}}, {{$type:in}}), the output type
-    ({{$type}}) or a geometric stream ({{@name}}); the text outside the fields must be one expression."""
-    from .. import streams
-    rest, i = [], 0
-    while True:
-        j = template.find("{{", i)
-        if j < 0:
-            rest.append(template[i:])
-            break
-        k = template.find("}}", j + 2)
-        if k < 0:
-            return "unterminated '{{' in sourcecode %r" % template
-        rest.append(template[i:j] + " x ")
-        f = template[j + 2:k].strip()
-        name = f[1:] if f[:1] in ("=", "@") else f[6:] if f.startswith("$type:") else None if f == "$type" else f
-        if f.startswith("@"):
-            try:
-                streams.lookup(name)
-            except KeyError:
-                return "sourcecode field '{{%s}}' names no geometric stream (%s)" % (f, streams.NAMES)
-        elif name is not None and name not in nodedef.inputs:
-            return "sourcecode field '{{%s}}' names no input of %s (inputs: %s)" % (
-                f, nodedef.name, ", ".join(nodedef.inputs) or "none")
-        elif f.startswith("=") and nodedef.inputs[name].type in ("string", "filename", "geomname"):
-            # mtlxgen's own templates paste an enum string as a name they define; a document's cannot
-            return "sourcecode field '{{%s}}' pastes a %s as GLSL" % (f, nodedef.inputs[name].type)
-        i = k + 2
-    text = "".join(rest)
-    bad = next((b for b in _BREAKS_EXPRESSION if b in text), None)
-    if bad is None and any(not c.isprintable() and c not in " \t\n\r" for c in text):
-        bad = "a control character"
-    if bad is not None:
-        return "sourcecode %r is not one GLSL expression (it holds %s)" % (template, bad if len(bad) > 2 else repr(bad))
-    if not text.strip():
-        return "empty sourcecode"
-    open_ = []
-    for c in text:
-        if c in "([":
-            open_.append(c)
-        elif c in ")]" and (not open_ or open_.pop() != {")": "(", "]": "["}[c]):
-            return "sourcecode %r has unbalanced brackets" % template
-        elif c == "," and not open_:      # `T v = a, b;` would declare b
-            return "sourcecode %r is not one GLSL expression (it holds ',' outside brackets)" % template
-    return "sourcecode %r has unbalanced brackets" % template if open_ else None
 
 
 def has_leaf_implementation(nodedef, library):
