@@ -125,6 +125,25 @@ def _name(text):
     return text
 
 
+def _variant(text):
+    set_name, eq, variant = text.partition("=")
+    if not eq or not set_name.strip() or not variant.strip():
+        raise argparse.ArgumentTypeError("%r is not SET=NAME (a variant set and the variant to select)" % text)
+    return set_name.strip(), variant.strip()
+
+
+def _usd_options(args):
+    """usdstage.StageOptions from --variant / --render-context; an error where they are given for a .mtlx."""
+    variants, context = tuple(getattr(args, "variant", None) or ()), getattr(args, "render_context", None)
+    from .usdstage import StageOptions, is_usd
+    if not is_usd(args.file):
+        if variants or context:
+            raise MtlxError((Loc(args.file, 0), "%s applies to USD stages (.usd, .usda, .usdc, .usdz) only"
+                             % ("--variant" if variants else "--render-context")))
+        return None
+    return StageOptions(variants=variants, render_context=context or "mtlx")
+
+
 def _check_document(path):
     """The input document: FILE:0 style like every other problem with a file."""
     problem = ("no such file" if not os.path.exists(path) else
@@ -139,7 +158,7 @@ def cmd_generate(args):
     from . import pipeline
     shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
                                        partial=True, usd_seed_rules=args.usd_seed_rules,
-                                       environment=args.environment)
+                                       environment=args.environment, usd_options=_usd_options(args))
     for s in shaders:
         paths = s.write(args.output)
         if args.verbose:
@@ -151,8 +170,10 @@ def cmd_generate(args):
 
 def cmd_render(args):
     from . import pipeline, render
-    shaders = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
-                                usd_seed_rules=args.usd_seed_rules, environment=args.environment)
+    # elements with problems are reported, the others drawn (as generate writes them)
+    shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
+                                       partial=True, usd_seed_rules=args.usd_seed_rules,
+                                       environment=args.environment, usd_options=_usd_options(args))
     env = render.load_environment(args.env) if args.env else None
     from .lights import load_light_rig
     lights = load_light_rig(args.lights) if args.lights else ()
@@ -164,11 +185,17 @@ def cmd_render(args):
             render.write_image(base + ".png", img)
             render.write_image(base + ".exr", img)
             print(base + ".png")
+    if error is not None:
+        raise error
     return 0
 
 
 def cmd_info(args):
     from . import pipeline
+    options = _usd_options(args)
+    if options is not None:
+        from .usdstage import print_info
+        return print_info(args.file, args.library, args.usd_seed_rules, options)
     session = pipeline.Session(args.file, None, args.library, args.usd_seed_rules)
     print("%s (MaterialX %s)" % (args.file, session.doc.version))
     status = 0
@@ -297,7 +324,7 @@ def build_parser():
     sub = ap.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
     def common(p):
-        p.add_argument("file", help="a .mtlx document")
+        p.add_argument("file", help="a .mtlx document or a USD stage (.usd, .usda, .usdc, .usdz)")
         p.add_argument("--library", action="append", default=[], metavar="DIR", type=_existing_dir,
                        help="extra directory of .mtlx definitions (repeatable)")
         p.add_argument("--usd-seed-rules", action=argparse.BooleanOptionalAction, default=None,
@@ -308,18 +335,25 @@ def build_parser():
                        help="how environment light is integrated: fis = filtered importance sampling with "
                             "u_envRadianceSamples samples (default), prefiltered = one lookup in the mip chain "
                             "per lobe at a roughness-chosen level (split sum; faster, blurrier)")
+        p.add_argument("--variant", action="append", default=[], metavar="SET=NAME", type=_variant,
+                       help="USD stages: select variant NAME of variant set SET wherever the set is (repeatable)")
+        p.add_argument("--render-context", choices=("mtlx", "universal"), default=None,
+                       help="USD stages: which surface a material with both outputs:mtlx:surface and "
+                            "outputs:surface draws (default: mtlx)")
 
     p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
     common(p)
     p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
-    p.add_argument("--element", metavar="NAME", type=_name, help="only this element (name path)")
+    p.add_argument("--element", metavar="NAME", type=_name,
+                   help="only this element (name path; for a USD stage, a material's prim path or name)")
     p.add_argument("-v", "--verbose", action="store_true", help="print the paths written")
     p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser("render", help="render each element on a sphere to NAME.png (sRGB) and NAME.exr (linear)")
     common(p)
     p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
-    p.add_argument("--element", metavar="NAME", type=_name, help="only this element (name path)")
+    p.add_argument("--element", metavar="NAME", type=_name,
+                   help="only this element (name path; for a USD stage, a material's prim path or name)")
     p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=256, metavar="N",
                    help="image width and height in pixels, 1 to %d (default: 256)" % MAX_SIZE)
     p.add_argument("--env", metavar="FILE", type=_readable_file,

@@ -1,4 +1,5 @@
-"""Problems found in input documents: every one names the file and line of the XML that caused it."""
+"""Problems found in input documents: every one names the file and line of the XML that caused it (for a USD
+stage, which has no lines, the layer and the prim path or attribute: FILE:/Prim/Path.inputs:name)."""
 from dataclasses import dataclass
 
 
@@ -6,8 +7,11 @@ from dataclasses import dataclass
 class Loc:
     file: str
     line: int = 0
+    where: str = None       # instead of the line, where a file has none (USD: PRIM_PATH.ATTRIBUTE)
 
     def __str__(self):
+        if self.where is not None:
+            return "%s:%s" % (self.file, self.where)
         return "%s:%d" % (self.file, self.line)
 
 

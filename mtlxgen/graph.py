@@ -282,7 +282,7 @@ class GraphBuilder:
                 else:
                     interface[inp.name] = self.public_value(g.name, inp, inp)
         for inp in g.inputs.values():
-            if inp.nodename or inp.nodegraph:
+            if inp.nodename or inp.nodegraph or inp.interfacename:     # interfacename: a document input
                 interface[inp.name] = self.source_of_port(inp, self.doc_scope, inp.type, g.name)
             elif inp.defaultgeomprop and inp.value is None:
                 interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)

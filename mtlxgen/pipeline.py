@@ -6,9 +6,14 @@ from .diagnostics import Loc, MtlxError, Problems
 from .resolve import search_paths
 
 
-def load_document(path, library_dirs=()):
+def load_document(path, library_dirs=(), usd_options=None):
+    """The Document of a .mtlx file, or of the materials of a USD stage (.usd, .usda, .usdc, .usdz:
+    usdstage.py; usd_options a usdstage.StageOptions)."""
     if not os.path.exists(path):
         raise MtlxError((Loc(path, 0), "no such file"))
+    from . import usdstage
+    if usdstage.is_usd(path):
+        return usdstage.load(path, library_dirs, usd_options)
     doc = document.load(path, search_paths(library_dirs))
     from .upgrade import upgrade
     return upgrade(doc)
@@ -18,11 +23,15 @@ class Session:
     """A document opened for generation: the libraries with the document's own definitions, the
     elements to draw, and whether USD's seed rules apply. Build its elements with graph() / shader()."""
 
-    def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None, environment="fis"):
+    def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None, environment="fis",
+                 usd_options=None):
         self.path = path
         self.environment = environment
-        self.doc = load_document(path, library_dirs)
+        self.doc = load_document(path, library_dirs, usd_options)
         self.library = library.load_library(library_dirs).overlay(self.doc)   # once per document
+        self.stage = getattr(self.doc, "usd", None)     # usdstage.StageInfo for a USD stage
+        if self.stage is not None and elements:          # elements named by prim path too
+            elements = [self.stage.element_for(e) for e in elements]
         self.elements = list(elements or graph.renderable_elements(self.doc))
         if usd_seed_rules is None:
             from .nodes.usd import comes_from_usd
@@ -32,29 +41,51 @@ class Session:
             raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
 
     def graph(self, name):
+        if self.stage is not None and name in self.stage.materials and self.stage.materials[name].problems:
+            raise MtlxError(self.stage.materials[name].problems)      # what the stage reader could not convert
         return graph.build_graph(self.doc, self.library, name, usd_seed_rules=self.usd_seed_rules)
 
     def shader(self, name):
-        return glslcheck.check(emit.emit(self.graph(name), environment=self.environment))
+        shader = glslcheck.check(emit.emit(self.graph(name), environment=self.environment))
+        if self.stage is not None and name in self.stage.materials:
+            shader.manifest["usd"] = self.stage.manifest(name)
+        return shader
+
+    def notes(self, name=None):
+        """Problems that leave an element drawn (a USD texture not found: its fallback is drawn); with no
+        name, those of the stage as a whole. Empty for .mtlx documents."""
+        if self.stage is None:
+            return []
+        if name is None:
+            return list(self.stage.problems)
+        m = self.stage.materials.get(name)
+        return list(m.notes) if m is not None else []
 
 
-def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis"):
+def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis",
+             usd_options=None):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
 
     usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
     rather than MaterialX's nodegraphs; None (the default) turns them on for documents from USD.
     environment: "fis" (filtered importance sampling) or "prefiltered" (emit.ENVIRONMENT_METHODS).
 
+    usd_options: for USD stages, a usdstage.StageOptions (variants, render context).
+
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
-    session = Session(path, elements, library_dirs, usd_seed_rules, environment)
+    session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options)
     problems, shaders = Problems(), []
+    for loc, message in session.notes():
+        problems.add(loc, message)
     for name in session.elements:
         try:
             shaders.append(session.shader(name))
         except MtlxError as e:
             problems.extend(e)
+        for loc, message in session.notes(name):
+            problems.add(loc, message)
     emit.unique_stems(shaders)          # one output folder holds them all
     if partial:
         return shaders, (MtlxError(problems.items) if problems else None)

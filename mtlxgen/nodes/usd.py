@@ -21,6 +21,9 @@ glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES), and accepts
   output = texel * scale + bias; `fallback` when the file cannot be read at generation time.
   Wrapping is done in GLSL (glsl_lib/usd/usd_uvtexture.glsl), so it holds whatever the sampler state;
   the manifest's texture entry also carries the MaterialX address modes, channel count and colour space.
+- UsdPrimvarReader: a float2 reader of any varname reads the renderer's texture coordinates (the one
+  primvar its geometry has); readers of other types return their fallback (string and filename readers
+  keep MaterialX's graphs).
 - UsdPreviewSurface: a nodegraph of ours (usd_seed.mtlx): metallic F0 = F90 = albedo (interpolated
   with the dielectric F0 from ior and F90 = 1), no conductor; opacity is alpha, not refraction;
   opacityThreshold > 0 cuts out (alpha 0 below the threshold, 1 at or above it).
@@ -33,6 +36,7 @@ USD_CATEGORIES = ("UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader", "UsdT
 SEED_CATEGORIES = {
     "UsdPreviewSurface": "usd_seed_UsdPreviewSurface",
     "UsdUVTexture": "usd_seed_UsdUVTexture",
+    "UsdPrimvarReader": "usd_seed_UsdPrimvarReader",
 }
 
 WRAP_MODES = {"black": 0, "clamp": 1, "repeat": 2, "periodic": 2, "mirror": 3}
@@ -53,7 +57,10 @@ _USD_ONLY_WRAPS = ("repeat", "useMetadata")
 
 
 def comes_from_usd(doc):
-    """True for a document from USD: it uses USD's preview nodes in USD's own vocabulary (see above)."""
+    """True for a document from USD: a USD stage's (usdstage.py), or one using USD's preview nodes in USD's
+    own vocabulary (see above)."""
+    if getattr(doc, "usd", None) is not None:
+        return True
     graphs = [doc.nodes] + [g.nodes for g in doc.nodegraphs.values()]
     usd_names = set()
     for nodes in graphs:
@@ -86,7 +93,7 @@ def seed_nodedef(node, library):
         return None
     candidates = library.by_category.get(category) or []
     if len(candidates) > 1 and node.type not in ("multioutput", ""):
-        candidates = [nd for nd in candidates if nd.type == node.type] or candidates
+        candidates = [nd for nd in candidates if nd.type == node.type]   # none: MaterialX's nodedefs decide
     return candidates[0] if candidates else None
 
 
@@ -145,30 +152,51 @@ def source_is_srgb(source, info):
 
 
 def uv_texture(node, em):
+    """UsdUVTexture by the seed's rules. A file naming <UDIM> (or <UVTILE>) reads one sampler per tile on
+    disk: the tile under st, at st less the tile's corner; st on no tile reads the fallback."""
     from ..resolve import resolve_file
-    from .handlers import _default_value, _texture_file
+    from .handlers import _TILE_TOKENS, _default_value, _texture_file, _udim_tiles
     sampler, value, _ = _texture_file(node, em)
-    info = file_info(resolve_file(value, em.graph.doc_path))
+    tiles = _udim_tiles(node, em, sampler, value, None) if _TILE_TOKENS.search(value) else None
+    if tiles:
+        info = file_info(str(em.graph.uniforms[tiles[min(tiles)]].value))   # the first tile speaks for all
+    else:
+        info = file_info(resolve_file(value, em.graph.doc_path)) if tiles is None else None
     wrap_s, wrap_t = _wrap(node, em, "wrapS", info), _wrap(node, em, "wrapT", info)
     source = node.static.get("sourceColorSpace") or "auto"
     if source not in ("raw", "sRGB", "auto"):
         em.fail(node, "sourceColorSpace '%s' is not one of raw, sRGB, auto" % source)
     srgb = source_is_srgb(source, info)
     channels = info["channels"] if info else 4
-    em.textures[sampler] = {
+    sampling = {
         "uaddressmode": _MATERIALX_ADDRESS[wrap_s], "vaddressmode": _MATERIALX_ADDRESS[wrap_t],
         "filtertype": "linear", "default": _default_value(node, "fallback"),
         "colorspace": "srgb_texture" if srgb else "raw", "channels": channels,
         "usd_wrap": [wrap_s, wrap_t], "usd_source_colorspace": source,
     }
     texel = em.fresh(node.id + "_texel")
+    fallback = em.input_expr(node, "fallback")
     if info is None:            # the file cannot be read: the seed's fallback
-        expr = em.input_expr(node, "fallback")
+        em.textures[sampler] = sampling
+        expr = fallback
     else:
         em.require("usd/usd_uvtexture.glsl")
-        expr = "mg_usd_uvtexture(%s, %s, %d, %d, %d, %s, %s, %s)" % (
-            sampler, em.input_expr(node, "st"), WRAP_MODES[wrap_s], WRAP_MODES[wrap_t], channels,
-            "true" if srgb else "false", em.input_expr(node, "scale"), em.input_expr(node, "bias"))
+        args = (WRAP_MODES[wrap_s], WRAP_MODES[wrap_t], channels, "true" if srgb else "false",
+                em.input_expr(node, "scale"), em.input_expr(node, "bias"))
+        if tiles:
+            st, cell = em.fresh(node.id + "_st"), em.fresh(node.id + "_tile")
+            em.line("vec2 %s = %s;" % (st, em.input_expr(node, "st")))
+            em.line("ivec2 %s = ivec2(floor(%s));" % (cell, st))
+            expr = fallback
+            for (cu, cv), tile in sorted(tiles.items(), reverse=True):
+                em.textures[tile] = dict(sampling)
+                expr = "(%s == ivec2(%d, %d) ? mg_usd_uvtexture(%s, %s - vec2(%d.0, %d.0), %d, %d, %d, %s, %s, %s) : %s)" % (
+                    (cell, cu, cv, tile, st, cu, cv) + args + (expr,))
+            if not any(s.uniform == sampler for n in em.graph.nodes if n is not node for s in n.inputs.values()):
+                em.graph.uniforms.pop(sampler, None)     # the <UDIM> pattern itself is no file
+        else:
+            em.textures[sampler] = sampling
+            expr = "mg_usd_uvtexture(%s, %s, %d, %d, %d, %s, %s, %s)" % ((sampler, em.input_expr(node, "st")) + args)
     em.line("vec4 %s = %s;" % (texel, expr))
     return {"r": texel + ".r", "g": texel + ".g", "b": texel + ".b", "a": texel + ".a", "rgb": texel + ".rgb",
             "rgba": texel}

@@ -1,0 +1,522 @@
+"""USD stages as input (mtlxgen/usdstage.py, issue 15): stages built here with Pixar's pxr, each feature drawn
+and compared with the same material written as a USD-vocabulary .mtlx document (identical pixels), plus
+problems (FILE:PRIM_PATH.ATTRIBUTE), info, and a sweep over ../shared/corpus/usd (marked corpus)."""
+import glob
+import json
+import os
+
+import numpy as np
+import pytest
+
+from conftest import SHARED
+from util import write_doc
+
+from mtlxgen import images, pipeline
+from mtlxgen.diagnostics import Loc, MtlxError
+from mtlxgen.usdstage import StageOptions, element_name
+
+pxr = pytest.importorskip("pxr", reason="usd-core (a dependency of mtlxgen) is not installed")
+from pxr import Gf, Sdf, Usd, UsdShade, UsdUtils  # noqa: E402
+
+T = Sdf.ValueTypeNames
+USD_CORPUS = os.path.join(SHARED, "corpus", "usd")
+
+
+# ---------------------------------------------------------------- building stages
+
+def _png(folder, name, pixels, size=16):
+    """An 8-bit PNG: `pixels` is a function (u, v) -> channel values in 0..255 over a size x size grid."""
+    v, u = np.meshgrid((np.arange(size) + 0.5) / size, (np.arange(size) + 0.5) / size, indexing="ij")
+    px = np.stack(pixels(u, v), -1).astype(np.uint8)
+    path = os.path.join(str(folder), name)
+    images.write_image(path, px)
+    return path
+
+
+def _textures(folder):
+    _png(folder, "albedo.png", lambda u, v: (u * 255, v * 255, 128 + 0 * u))
+    _png(folder, "mask.png", lambda u, v: ((u > 0.5) * 200 + 30,))
+    _png(folder, "nrm.png", lambda u, v: (128 + 60 * np.sin(9 * u), 128 + 60 * np.cos(7 * v), 255 + 0 * u))
+    _png(folder, "leaf.png", lambda u, v: (180 + 0 * u, ((u - 0.5) ** 2 + (v - 0.5) ** 2 < 0.2) * 255))
+
+
+def _shader(stage, path, sid, **inputs):
+    s = UsdShade.Shader.Define(stage, path)
+    s.CreateIdAttr(sid)
+    for name, (t, value) in inputs.items():
+        s.CreateInput(name, t).Set(value)
+    return s
+
+
+def _connect(shader, name, t, source, output, out_type=T.Float3):
+    inp = shader.CreateInput(name, t)
+    inp.ConnectToSource(source.ConnectableAPI() if hasattr(source, "ConnectableAPI") else source, output,
+                        UsdShade.AttributeType.Output, out_type)
+    return inp
+
+
+def _surface(material, shader, context=None):
+    out = material.CreateSurfaceOutput(context) if context else material.CreateSurfaceOutput()
+    out.ConnectToSource(shader.ConnectableAPI(), "surface" if context is None else "out")
+
+
+def _tiles(stage, root="/Root/Looks/Tiles"):
+    """UsdPrimvarReader (varname st0) -> UsdTransform2d -> four UsdUVTextures: sRGB-by-auto albedo with wrap
+    repeat/mirror, scale and bias; one channel `r` for roughness; a normal map (rgb into the float3 normal:
+    scale 2, bias -1); a 2-channel leaf's `a` as opacity with opacityThreshold; specular workflow."""
+    mat = UsdShade.Material.Define(stage, root)
+    reader = _shader(stage, root + "/Reader", "UsdPrimvarReader_float2", varname=(T.Token, "st0"))
+    xf = _shader(stage, root + "/Xf", "UsdTransform2d", scale=(T.Float2, Gf.Vec2f(2, 1.5)),
+                 rotation=(T.Float, 30.0), translation=(T.Float2, Gf.Vec2f(0.125, 0)))
+    _connect(xf, "in", T.Float2, reader, "result", T.Float2)
+    albedo = _shader(stage, root + "/Albedo", "UsdUVTexture", file=(T.Asset, "albedo.png"),
+                     wrapS=(T.Token, "repeat"), wrapT=(T.Token, "mirror"), sourceColorSpace=(T.Token, "auto"),
+                     scale=(T.Float4, Gf.Vec4f(0.875, 0.75, 0.625, 1)), bias=(T.Float4, Gf.Vec4f(0.0625, 0, 0, 0)))
+    mask = _shader(stage, root + "/Mask", "UsdUVTexture", file=(T.Asset, "mask.png"), wrapS=(T.Token, "repeat"),
+                   wrapT=(T.Token, "black"), sourceColorSpace=(T.Token, "raw"))
+    nrm = _shader(stage, root + "/Nrm", "UsdUVTexture", file=(T.Asset, "nrm.png"), sourceColorSpace=(T.Token, "raw"),
+                  wrapS=(T.Token, "repeat"), wrapT=(T.Token, "repeat"),
+                  scale=(T.Float4, Gf.Vec4f(2, 2, 2, 1)), bias=(T.Float4, Gf.Vec4f(-1, -1, -1, 0)))
+    leaf = _shader(stage, root + "/Leaf", "UsdUVTexture", file=(T.Asset, "leaf.png"), wrapS=(T.Token, "clamp"),
+                   wrapT=(T.Token, "clamp"))
+    for tex in (albedo, mask, nrm, leaf):
+        _connect(tex, "st", T.Float2, xf, "result", T.Float2)
+    surf = _shader(stage, root + "/Surface", "UsdPreviewSurface", opacityThreshold=(T.Float, 0.5),
+                   useSpecularWorkflow=(T.Int, 1), specularColor=(T.Color3f, Gf.Vec3f(0.25, 0.5, 0.125)))
+    _connect(surf, "diffuseColor", T.Color3f, albedo, "rgb")
+    _connect(surf, "roughness", T.Float, mask, "r", T.Float)
+    _connect(surf, "normal", T.Normal3f, nrm, "rgb")
+    _connect(surf, "opacity", T.Float, leaf, "a", T.Float)
+    surf.CreateInput("specular", T.Float).Set(0.5)          # not a UsdPreviewSurface input: ignored
+    _surface(mat, surf)
+    return mat
+
+
+TILES_MTLX = """
+  <UsdPrimvarReader name="reader" type="vector2"><input name="varname" type="string" value="st0" /></UsdPrimvarReader>
+  <UsdTransform2d name="xf" type="vector2">
+    <input name="in" type="vector2" nodename="reader" output="result" />
+    <input name="scale" type="vector2" value="2, 1.5" />
+    <input name="rotation" type="float" value="30" />
+    <input name="translation" type="vector2" value="0.125, 0" />
+  </UsdTransform2d>
+  <UsdUVTexture name="albedo" type="multioutput">
+    <input name="file" type="filename" value="albedo.png" />
+    <input name="st" type="vector2" nodename="xf" output="result" />
+    <input name="wrapS" type="string" value="repeat" /><input name="wrapT" type="string" value="mirror" />
+    <input name="sourceColorSpace" type="string" value="auto" />
+    <input name="scale" type="color4" value="0.875, 0.75, 0.625, 1" />
+    <input name="bias" type="color4" value="0.0625, 0, 0, 0" />
+  </UsdUVTexture>
+  <UsdUVTexture name="mask" type="multioutput">
+    <input name="file" type="filename" value="mask.png" />
+    <input name="st" type="vector2" nodename="xf" output="result" />
+    <input name="wrapS" type="string" value="repeat" /><input name="wrapT" type="string" value="black" />
+    <input name="sourceColorSpace" type="string" value="raw" />
+  </UsdUVTexture>
+  <UsdUVTexture name="nrm" type="multioutput">
+    <input name="file" type="filename" value="nrm.png" />
+    <input name="st" type="vector2" nodename="xf" output="result" />
+    <input name="wrapS" type="string" value="repeat" /><input name="wrapT" type="string" value="repeat" />
+    <input name="sourceColorSpace" type="string" value="raw" />
+    <input name="scale" type="color4" value="2, 2, 2, 1" /><input name="bias" type="color4" value="-1, -1, -1, 0" />
+  </UsdUVTexture>
+  <UsdUVTexture name="leaf" type="multioutput">
+    <input name="file" type="filename" value="leaf.png" />
+    <input name="st" type="vector2" nodename="xf" output="result" />
+    <input name="wrapS" type="string" value="clamp" /><input name="wrapT" type="string" value="clamp" />
+  </UsdUVTexture>
+  <convert name="nrm_vector" type="vector3"><input name="in" type="color3" nodename="nrm" output="rgb" /></convert>
+  <UsdPreviewSurface name="surface" type="surfaceshader">
+    <input name="diffuseColor" type="color3" nodename="albedo" output="rgb" />
+    <input name="roughness" type="float" nodename="mask" output="r" />
+    <input name="normal" type="vector3" nodename="nrm_vector" />
+    <input name="opacity" type="float" nodename="leaf" output="a" />
+    <input name="opacityThreshold" type="float" value="0.5" />
+    <input name="useSpecularWorkflow" type="integer" value="1" />
+    <input name="specularColor" type="color3" value="0.25, 0.5, 0.125" />
+  </UsdPreviewSurface>
+  <surfacematerial name="Tiles" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="surface" />
+  </surfacematerial>"""
+
+
+def _gold(stage, root="/Root/Looks/Gold"):
+    """Interface inputs: the Material's `tint` and `rough`; a NodeGraph whose input `amount` reads the material's
+    `rough`, doubled by a MaterialX node (ND_multiply_float) inside the graph, out to the roughness."""
+    mat = UsdShade.Material.Define(stage, root)
+    tint = mat.CreateInput("tint", T.Color3f)
+    tint.Set(Gf.Vec3f(1, 0.75, 0.25))
+    rough = mat.CreateInput("rough", T.Float)
+    rough.Set(0.25)
+    graph = UsdShade.NodeGraph.Define(stage, root + "/Graph")
+    amount = graph.CreateInput("amount", T.Float)
+    amount.ConnectToSource(rough)
+    twice = _shader(stage, root + "/Graph/Twice", "ND_multiply_float", in2=(T.Float, 2.0))
+    twice.CreateInput("in1", T.Float).ConnectToSource(amount)
+    graph.CreateOutput("out", T.Float).ConnectToSource(twice.ConnectableAPI(), "out")
+    surf = _shader(stage, root + "/Surface", "UsdPreviewSurface", metallic=(T.Float, 1.0))
+    surf.CreateInput("diffuseColor", T.Color3f).ConnectToSource(tint)
+    surf.CreateInput("roughness", T.Float).ConnectToSource(graph.ConnectableAPI(), "out")
+    _surface(mat, surf)
+    return mat
+
+
+GOLD_MTLX = """
+  <input name="tint" type="color3" value="1, 0.75, 0.25" />
+  <input name="rough" type="float" value="0.25" />
+  <nodegraph name="Graph">
+    <input name="amount" type="float" interfacename="rough" />
+    <multiply name="Twice" type="float">
+      <input name="in1" type="float" interfacename="amount" /><input name="in2" type="float" value="2" />
+    </multiply>
+    <output name="out" type="float" nodename="Twice" />
+  </nodegraph>
+  <UsdPreviewSurface name="surface" type="surfaceshader">
+    <input name="diffuseColor" type="color3" interfacename="tint" />
+    <input name="metallic" type="float" value="1" />
+    <input name="roughness" type="float" nodegraph="Graph" output="out" />
+  </UsdPreviewSurface>
+  <surfacematerial name="Gold" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="surface" />
+  </surfacematerial>"""
+
+UNLIT_MTLX = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <texcoord name="uv" type="vector2" />
+  <image name="picture" type="color3">
+    <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />
+    <input name="texcoord" type="vector2" nodename="uv" />
+  </image>
+  <surface_unlit name="unlit" type="surfaceshader">
+    <input name="emission_color" type="color3" nodename="picture" />
+    <input name="emission" type="float" value="0.75" />
+  </surface_unlit>
+  <surfacematerial name="Unlit" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="unlit" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def _both(stage, root="/Root/Looks/Both"):
+    """A MaterialX network (ND_* ids: an image whose file has colorSpace srgb_texture, into an unlit surface) on
+    outputs:mtlx:surface beside a red UsdPreviewSurface on outputs:surface."""
+    mat = UsdShade.Material.Define(stage, root)
+    uv = _shader(stage, root + "/Uv", "ND_texcoord_vector2")
+    pic = _shader(stage, root + "/Picture", "ND_image_color3", file=(T.Asset, "albedo.png"))
+    pic.GetInput("file").GetAttr().SetColorSpace("srgb_texture")
+    _connect(pic, "texcoord", T.Float2, uv, "out", T.Float2)
+    unlit = _shader(stage, root + "/Unlit", "ND_surface_unlit", emission=(T.Float, 0.75))
+    _connect(unlit, "emission_color", T.Color3f, pic, "out", T.Color3f)
+    _surface(mat, unlit, "mtlx")
+    red = _shader(stage, root + "/Preview", "UsdPreviewSurface", diffuseColor=(T.Color3f, Gf.Vec3f(0.8, 0.05, 0.05)))
+    _surface(mat, red)
+    return mat
+
+
+@pytest.fixture(scope="module")
+def scene(tmp_path_factory):
+    """One folder: textures, looks.usda (Tiles, Gold, Both, and /Root/Mx referencing unlit.mtlx), the .mtlx forms."""
+    folder = tmp_path_factory.mktemp("usd_scene")
+    _textures(folder)
+    stage = Usd.Stage.CreateNew(str(folder / "looks.usda"))
+    _tiles(stage)
+    _gold(stage)
+    _both(stage)
+    mx = stage.DefinePrim("/Root/Mx", "Scope")
+    mx.GetReferences().AddReference("./unlit.mtlx", "/MaterialX/Materials")
+    stage.GetRootLayer().Save()
+    (folder / "unlit.mtlx").write_text(UNLIT_MTLX)
+    write_doc(folder, TILES_MTLX, name="tiles.mtlx")
+    write_doc(folder, GOLD_MTLX, name="gold.mtlx")
+    return folder
+
+
+def _render(renderer, path, element, **kw):
+    shaders = pipeline.generate(str(path), [element], usd_seed_rules=True, **kw)
+    return renderer.render(shaders[0]), shaders[0]
+
+
+def _same(a, b, what):
+    assert a.shape == b.shape
+    assert np.isfinite(a).all() and a[..., 3].max() > 0, what + ": nothing drawn"
+    diff = np.abs(a - b).max()
+    assert diff == 0.0, "%s: renders differ by up to %g" % (what, diff)
+
+
+# ---------------------------------------------------------------- the tests
+
+def test_element_names_are_prim_paths():
+    assert element_name("/Root/Looks/Wood") == "Root_Looks_Wood"
+    assert element_name("/A") == "A"
+    assert str(Loc("f.usda", where="/A/B.inputs:file")) == "f.usda:/A/B.inputs:file"
+    assert str(Loc("f.mtlx", 12)) == "f.mtlx:12"        # every existing FILE:LINE unchanged
+
+
+def test_stage_lists_every_material_by_prim_path(scene):
+    doc = pipeline.load_document(str(scene / "looks.usda"))
+    assert list(doc.usd.materials) == ["Root_Looks_Tiles", "Root_Looks_Gold", "Root_Looks_Both", "Root_Mx_Unlit"]
+    assert doc.usd.by_prim["/Root/Looks/Gold"] == "Root_Looks_Gold"
+    assert doc.usd.by_prim["/Root/Mx/Unlit"] == "Root_Mx_Unlit"      # where USD's MaterialX plugin puts it
+    session = pipeline.Session(str(scene / "looks.usda"), ["/Root/Looks/Gold"])
+    assert session.elements == ["Root_Looks_Gold"] and session.usd_seed_rules
+
+
+def test_preview_surface_network_draws_as_its_mtlx_form(renderer, scene):
+    """primvar reader (any varname: st0), UsdTransform2d, wrap modes, sRGB by auto, scale/bias, a single channel,
+    a normal map into the float3 normal (through convert), opacityThreshold, useSpecularWorkflow."""
+    ours, shader = _render(renderer, scene / "looks.usda", "/Root/Looks/Tiles")
+    theirs, _ = _render(renderer, scene / "tiles.mtlx", "Tiles")
+    _same(ours, theirs, "Tiles")
+    alpha = ours[..., 3]
+    assert (alpha == 0).any() and (alpha == 1).any(), "the cut-out leaves both holes and solid surface"
+    assert shader.manifest["usd"] == {"prim": "/Root/Looks/Tiles", "render_context": "universal"}
+    kinds = {os.path.basename(t["file"]): (t["usd_wrap"], t["colorspace"]) for t in shader.manifest["textures"]}
+    assert kinds["albedo.png"] == (["repeat", "mirror"], "srgb_texture")
+    assert kinds["mask.png"] == (["repeat", "black"], "raw")
+
+
+def test_interface_inputs_of_material_and_nodegraph(renderer, scene):
+    ours, shader = _render(renderer, scene / "looks.usda", "Root_Looks_Gold")
+    theirs, _ = _render(renderer, scene / "gold.mtlx", "Gold")
+    _same(ours, theirs, "Gold")
+    values = {u["name"]: u["value"] for u in shader.manifest["uniforms"]}
+    tint = [k for k in values if k.endswith("Root_Looks_Gold_tint")]
+    assert tint and values[tint[0]] == [1.0, 0.75, 0.25], values        # the material's input: one public uniform
+
+
+def test_render_context_chooses_the_surface(renderer, scene):
+    mx, shader = _render(renderer, scene / "looks.usda", "Root_Looks_Both")
+    assert shader.manifest["usd"]["render_context"] == "mtlx"
+    ref, _ = _render(renderer, scene / "unlit.mtlx", "Unlit")
+    _same(mx, ref, "mtlx context vs unlit.mtlx")
+    universal, shader = _render(renderer, scene / "looks.usda", "Root_Looks_Both",
+                                usd_options=StageOptions(render_context="universal"))
+    assert shader.manifest["usd"]["render_context"] == "universal"
+    centre = universal[60:68, 60:68, :3].reshape(-1, 3).mean(0)
+    assert centre[0] > 3 * centre[1] and centre[0] > 3 * centre[2], centre       # the red preview surface
+    # the referenced .mtlx, read by our own reader at the prim path the plugin gives it
+    mtlx_ref, shader = _render(renderer, scene / "looks.usda", "/Root/Mx/Unlit")
+    _same(mtlx_ref, ref, "referenced unlit.mtlx")
+    assert shader.manifest["usd"]["mtlx_document"].endswith("unlit.mtlx")
+
+
+def test_usdz_textures_are_read_from_inside_the_package(renderer, scene, tmp_path, monkeypatch):
+    monkeypatch.setenv("MTLXGEN_CACHE", str(tmp_path / "cache"))
+    src = tmp_path / "src"
+    src.mkdir()
+    _textures(src)
+    stage = Usd.Stage.CreateNew(str(src / "tiles.usda"))
+    _tiles(stage)
+    stage.GetRootLayer().Save()
+    package = str(tmp_path / "tiles.usdz")
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(src / "tiles.usda")), package)
+    for png in glob.glob(str(src / "*.png")):
+        os.remove(png)                                   # only the package holds them now
+    ours, shader = _render(renderer, package, "Root_Looks_Tiles")
+    files = [t["file"] for t in shader.manifest["textures"]]
+    assert files and all(f.startswith(str(tmp_path / "cache")) and os.path.isfile(f) for f in files), files
+    theirs, _ = _render(renderer, scene / "looks.usda", "Root_Looks_Tiles")
+    _same(ours, theirs, "Tiles from the .usdz")
+
+
+def test_udim_tiles(renderer, tmp_path):
+    _png(tmp_path, "tile.1001.png", lambda u, v: (230 + 0 * u, 20 + 0 * u, 20 + 0 * u))
+    _png(tmp_path, "tile.1002.png", lambda u, v: (20 + 0 * u, 20 + 0 * u, 230 + 0 * u))
+    stage = Usd.Stage.CreateNew(str(tmp_path / "udim.usda"))
+    mat = UsdShade.Material.Define(stage, "/M")
+    reader = _shader(stage, "/M/Reader", "UsdPrimvarReader_float2", varname=(T.Token, "st"))
+    # the camera sees u in [0.5, 1]: scaled by 2 and moved by -0.5, half of it falls on each tile
+    xf = _shader(stage, "/M/Xf", "UsdTransform2d", scale=(T.Float2, Gf.Vec2f(2, 1)),
+                 translation=(T.Float2, Gf.Vec2f(-0.5, 0)))
+    _connect(xf, "in", T.Float2, reader, "result", T.Float2)
+    tex = _shader(stage, "/M/Tex", "UsdUVTexture", file=(T.Asset, "tile.<UDIM>.png"), sourceColorSpace=(T.Token, "raw"))
+    _connect(tex, "st", T.Float2, xf, "result", T.Float2)
+    surf = _shader(stage, "/M/Surface", "UsdPreviewSurface")
+    _connect(surf, "emissiveColor", T.Color3f, tex, "rgb")
+    _surface(mat, surf)
+    stage.GetRootLayer().Save()
+    img, shader = _render(renderer, tmp_path / "udim.usda", "M")
+    tiles = sorted(os.path.basename(t["file"]) for t in shader.manifest["textures"])
+    assert tiles == ["tile.1001.png", "tile.1002.png"]
+    rgb, drawn = img[..., :3], img[..., 3] > 0
+    red = drawn & (rgb[..., 0] > 2 * rgb[..., 2])
+    blue = drawn & (rgb[..., 2] > 2 * rgb[..., 0])
+    assert red.sum() > 0.2 * drawn.sum() and blue.sum() > 0.2 * drawn.sum(), (red.sum(), blue.sum(), drawn.sum())
+
+
+def test_missing_texture_names_layer_prim_attribute_and_fallback(renderer, tmp_path, capsys):
+    stage = Usd.Stage.CreateNew(str(tmp_path / "missing.usda"))
+    for name, textured in (("Broken", True), ("Plain", False)):
+        mat = UsdShade.Material.Define(stage, "/Looks/" + name)
+        surf = _shader(stage, "/Looks/%s/Surface" % name, "UsdPreviewSurface")
+        if textured:
+            tex = _shader(stage, "/Looks/Broken/Tex", "UsdUVTexture", file=(T.Asset, "gone/nothere.png"),
+                          fallback=(T.Float4, Gf.Vec4f(0.25, 0.5, 0.75, 1)))
+            _connect(surf, "diffuseColor", T.Color3f, tex, "rgb")
+        else:
+            surf.CreateInput("diffuseColor", T.Color3f).Set(Gf.Vec3f(0.25, 0.5, 0.75))
+        _surface(mat, surf)
+    stage.GetRootLayer().Save()
+    path = str(tmp_path / "missing.usda")
+    from mtlxgen.cli import main
+    rc = main(["generate", path, "-o", str(tmp_path / "out")])
+    out, err = capsys.readouterr()
+    assert rc == 1
+    assert err.splitlines() == [
+        "%s:/Looks/Broken/Tex.inputs:file: texture 'gone/nothere.png' not found (looked for %s); drawing the "
+        "fallback (0.25, 0.5, 0.75, 1.0)" % (path, os.path.join(str(tmp_path), "gone", "nothere.png"))]
+    assert os.path.isfile(tmp_path / "out" / "Looks_Broken.frag")         # the element is still written
+    shaders, error = pipeline.generate(path, partial=True)
+    assert len(shaders) == 2 and len(error.problems) == 1
+    broken, plain = (renderer.render(s) for s in shaders)
+    _same(broken, plain, "the fallback drawn in place of the missing file")
+
+
+def _variant_stage(tmp_path):
+    stage = Usd.Stage.CreateNew(str(tmp_path / "variants.usda"))
+    mat = UsdShade.Material.Define(stage, "/Looks/Paint")
+    surf = _shader(stage, "/Looks/Paint/Surface", "UsdPreviewSurface")
+    surf.CreateInput("diffuseColor", T.Color3f)         # its values only in the variants (local ones would win)
+    _surface(mat, surf)
+    vset = mat.GetPrim().GetVariantSets().AddVariantSet("look")
+    for name, colour in (("red", (0.75, 0, 0)), ("blue", (0, 0, 0.75))):
+        vset.AddVariant(name)
+        vset.SetVariantSelection(name)
+        with vset.GetVariantEditContext():
+            surf.GetInput("diffuseColor").Set(Gf.Vec3f(*colour))
+    vset.SetVariantSelection("red")
+    stage.GetRootLayer().Save()
+    return str(tmp_path / "variants.usda")
+
+
+def _diffuse(shader):
+    return next(u["value"] for u in shader.manifest["uniforms"] if u["name"].endswith("diffuseColor"))
+
+
+def test_variants_are_selected_before_reading(tmp_path):
+    path = _variant_stage(tmp_path)
+    assert _diffuse(pipeline.generate(path)[0]) == [0.75, 0.0, 0.0]
+    blue = pipeline.generate(path, usd_options=StageOptions(variants=(("look", "blue"),)))[0]
+    assert _diffuse(blue) == [0.0, 0.0, 0.75]
+    with open(path) as f:
+        assert 'string look = "red"' in f.read()            # selected in the session layer, the file untouched
+    with pytest.raises(MtlxError) as e:
+        pipeline.generate(path, usd_options=StageOptions(variants=(("look", "green"),)))
+    assert e.value.lines() == ["%s:/Looks/Paint: variant set 'look' has no variant 'green' (variants: blue, red)" % path]
+    with pytest.raises(MtlxError) as e:
+        pipeline.generate(path, usd_options=StageOptions(variants=(("finish", "matte"),)))
+    assert e.value.lines() == ["%s:0: no variant set 'finish' on the stage (variant sets: look)" % path]
+
+
+def test_cli_options_and_batch(tmp_path, capsys):
+    from mtlxgen.cli import main
+    path = _variant_stage(tmp_path)
+    assert main(["generate", path, "-o", str(tmp_path / "g"), "--variant", "look=blue", "--element", "/Looks/Paint"]) == 0
+    manifest = json.loads((tmp_path / "g" / "Looks_Paint.json").read_text())
+    assert manifest["usd"]["prim"] == "/Looks/Paint"
+    assert next(u["value"] for u in manifest["uniforms"] if u["name"].endswith("diffuseColor")) == [0.0, 0.0, 0.75]
+    capsys.readouterr()
+    assert main(["generate", path, "-o", str(tmp_path / "g"), "--element", "/Looks/Nope"]) == 1
+    assert capsys.readouterr().err.splitlines() == ["%s:/Looks/Nope: no UsdShadeMaterial at this prim path" % path]
+    doc = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "quick_start.mtlx")
+    assert main(["info", doc, "--variant", "a=b"]) == 1
+    assert "applies to USD stages" in capsys.readouterr().err
+    assert main(["batch", path, "-o", str(tmp_path / "b"), "-j", "1", "--no-progress"]) == 0
+    assert os.path.isfile(tmp_path / "b" / "variants__Looks_Paint.png")
+
+
+def test_problems_are_one_line_each_and_other_materials_still_drawn(tmp_path, capsys):
+    stage = Usd.Stage.CreateNew(str(tmp_path / "bad.usda"))
+    good = UsdShade.Material.Define(stage, "/L/Good")
+    _surface(good, _shader(stage, "/L/Good/S", "UsdPreviewSurface"))
+    unknown = UsdShade.Material.Define(stage, "/L/Unknown")
+    _surface(unknown, _shader(stage, "/L/Unknown/S", "PxrSurface"))
+    dangling = UsdShade.Material.Define(stage, "/L/Dangling")
+    s = _shader(stage, "/L/Dangling/S", "UsdPreviewSurface")
+    s.CreateInput("diffuseColor", T.Color3f).GetAttr().AddConnection(Sdf.Path("/L/Nope.outputs:rgb"))
+    _surface(dangling, s)
+    UsdShade.Material.Define(stage, "/L/Empty")
+    stage.GetRootLayer().Save()
+    path = str(tmp_path / "bad.usda")
+    from mtlxgen.cli import main
+    assert main(["generate", path, "-o", str(tmp_path / "o")]) == 1
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "Warning" not in err
+    assert sorted(err.splitlines()) == sorted([
+        "%s:/L/Unknown/S: unknown shader info:id 'PxrSurface' (mtlxgen reads UsdPreviewSurface, UsdUVTexture, "
+        "UsdPrimvarReader_<type>, UsdTransform2d and MaterialX nodedef names, ND_*)" % path,
+        "%s:/L/Dangling/S.inputs:diffuseColor: connects to </L/Nope.outputs:rgb>, which is not an input or output "
+        "of a shader, nodegraph or material on the stage" % path,
+        "%s:/L/Empty: material has no connected surface output (outputs:mtlx:surface or outputs:surface)" % path])
+    assert sorted(os.listdir(tmp_path / "o")) == ["L_Good.frag", "L_Good.json", "L_Good.vert"]
+    broken = tmp_path / "broken.usda"
+    broken.write_text('#usda 1.0\ndef Xform "A" {\n  float x = \n}\n')
+    assert main(["info", str(broken)]) == 1
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("%s:0: cannot open the USD stage: " % broken), lines
+    assert "Expected" in lines[0]
+
+
+def test_info_lists_materials_shader_ids_and_what_is_unresolved(scene, tmp_path, capsys):
+    from mtlxgen.cli import main
+    assert main(["info", str(scene / "looks.usda")]) == 0
+    out = capsys.readouterr().out
+    assert "Root_Looks_Tiles  </Root/Looks/Tiles>  universal surface" in out
+    assert "Root_Looks_Both  </Root/Looks/Both>  mtlx surface (also: universal)" in out
+    for prim, sid in (("/Root/Looks/Tiles/Reader", "UsdPrimvarReader_float2"), ("/Root/Looks/Tiles/Xf", "UsdTransform2d"),
+                      ("/Root/Looks/Both/Picture", "ND_image_color3"), ("/Root/Looks/Gold/Graph/Twice", "ND_multiply_float")):
+        assert any(line.split() == [prim, sid] for line in out.splitlines()), (prim, out)
+    assert "Root_Mx_Unlit  </Root/Mx/Unlit>  from " in out
+    assert "Surface.inputs:specular: input 'specular' is not an input of UsdPreviewSurface: ignored" in out
+    stage = Usd.Stage.CreateNew(str(tmp_path / "m.usda"))
+    mat = UsdShade.Material.Define(stage, "/M")
+    tex = _shader(stage, "/M/T", "UsdUVTexture", file=(T.Asset, "x.png"))
+    surf = _shader(stage, "/M/S", "UsdPreviewSurface")
+    _connect(surf, "diffuseColor", T.Color3f, tex, "rgb")
+    _surface(mat, surf)
+    stage.GetRootLayer().Save()
+    assert main(["info", str(tmp_path / "m.usda")]) == 1
+    out = capsys.readouterr().out
+    assert "    unresolved:\n      %s:/M/T.inputs:file: texture 'x.png' not found" % (tmp_path / "m.usda") in out
+
+
+# ---------------------------------------------------------------- the corpus
+
+CORPUS_STAGES = {
+    # entry file: materials it holds (as composed with the default variants)
+    "TextureTransformTest/TextureTransformTest.usd": 9,
+    "TextureCoordinateTest/TextureCoordinateTest.usda": 5,
+    "TextureCoordinateTest/TextureCoordinateTestMaterialX.usda": 5,
+    "RoughnessTest/RoughnessTest.usdz": 6,
+    "StandardShaderBall/standard_shader_ball_scene.usda": 17,
+    "intent-vfx/assets/simpleAsset/simpleAsset.usd": 2,
+    "intent-vfx/assets/teapot/teapot.usd": 1,
+    "Teapot/Teapot.usd": 2,
+}
+# what the copy in ../shared lacks (its README): a missing texture, drawn as its fallback
+KNOWN_NOTES = ("ground.ACEScg.exr",)
+
+
+def _corpus_cases():
+    if not os.path.isdir(USD_CORPUS):
+        return [pytest.param(None, None, id="usd-corpus-absent",
+                             marks=pytest.mark.skip(reason="needs ../shared/corpus/usd, absent on a clone"))]
+    return [pytest.param(k, v, id=os.path.basename(k)) for k, v in CORPUS_STAGES.items()]
+
+
+@pytest.mark.corpus
+@pytest.mark.parametrize("entry,count", _corpus_cases())
+def test_corpus_materials_generate_and_compile(entry, count, renderer, tmp_path, monkeypatch):
+    monkeypatch.setenv("MTLXGEN_CACHE", str(tmp_path / "cache"))
+    path = os.path.join(USD_CORPUS, entry)
+    shaders, error = pipeline.generate(path, partial=True)
+    problems = error.lines() if error else []
+    assert all(any(k in line for k in KNOWN_NOTES) for line in problems), "\n".join(problems)
+    assert len(shaders) == count, [s.element for s in shaders]
+    ctx = renderer.ctx
+    ctx.__enter__()
+    for s in shaders:
+        prog = ctx.program(vertex_shader=s.vertex, fragment_shader=s.fragment)      # raises where it does not link
+        prog.release()
