@@ -177,16 +177,21 @@ def cmd_render(args):
     env = render.load_environment(args.env) if args.env else None
     from .lights import load_light_rig
     lights = load_light_rig(args.lights) if args.lights else ()
+    problems = list(error.problems) if error is not None else []
     with render.Renderer(size=args.size, environment=env, lights=lights) as r:
         for s in shaders:
-            img = r.render(s)
+            try:
+                img = r.render(s)
+            except MtlxError as e:      # a file the renderer refuses: this element is not drawn, the others are
+                problems += [p for p in e.problems if p not in problems]
+                continue
             os.makedirs(args.output, exist_ok=True)
             base = os.path.join(args.output, s.stem)
             render.write_image(base + ".png", img)
             render.write_image(base + ".exr", img)
             print(base + ".png")
-    if error is not None:
-        raise error
+    if problems:
+        raise MtlxError(problems)
     return 0
 
 

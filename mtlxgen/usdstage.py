@@ -251,9 +251,11 @@ def mx_type_of(sdf_type):
 
 
 def _components(value):
+    if type(value).__module__.startswith("pxr.Vt"):     # arrays (float[], color3f[]): no MaterialX input holds one
+        raise TypeError(type(value).__name__)
     try:
         return [float(x) for x in value]
-    except TypeError:
+    except (TypeError, ValueError):
         pass
     if hasattr(value, "GetRow"):        # Gf.Matrix3d / Matrix4d: row by row, as MaterialX writes them
         n = value.dimension[0]
@@ -267,8 +269,8 @@ def value_text(value, mx_type):
     """A USD value as the MaterialX value string of `mx_type` (ValueError_ where it does not fit)."""
     if mx_type in ("string", "filename"):
         return str(getattr(value, "path", value))
-    if isinstance(value, (list, tuple)) and len(value) == 1 and not isinstance(value, str):
-        value = value[0]
+    if type(value).__module__.startswith("pxr.Vt"):
+        raise mxtypes.ValueError_("an array (%s) for a %s input" % (type(value).__name__, mx_type))
     if mx_type == "boolean":
         if isinstance(value, (bool, int)):
             return "true" if value else "false"
@@ -455,7 +457,7 @@ class _StageReader:
         from pxr import UsdShade
         mat = UsdShade.Material(prim)
         outputs = {"mtlx": mat.GetSurfaceOutput("mtlx"), "universal": mat.GetSurfaceOutput()}
-        present = {k: o for k, o in outputs.items() if o and o.GetAttr().IsValid() and o.HasConnectedSource()}
+        present = {k: o for k, o in outputs.items() if o and o.GetAttr().IsValid() and o.GetAttr().HasAuthoredConnections()}
         info.contexts = tuple(k for k in RENDER_CONTEXTS if k in present)
         want = self.options.render_context
         context = want if want in present else next(iter(present), None)
@@ -516,6 +518,11 @@ class _StageReader:
                 self.convert_material_input(key[1], key[2], problems, notes, deps)
         except MtlxError as e:
             problems.extend(e.problems)
+        except Exception as e:      # pxr's Tf.ErrorException: USD refusing something of this prim
+            if type(e).__module__.split(".")[0] != "pxr":
+                raise
+            problems.append((Loc(self.path, where=key[-1] if isinstance(key[-1], str) else None),
+                             "USD: %s" % _tf_message(e)))
         return problems, notes, ignored, deps, shaders
 
     # ---------- shader prims ----------
@@ -604,8 +611,13 @@ class _StageReader:
         sources, invalid = attr_api.GetConnectedSources()
         loc = self.attr_loc(attr_api.GetAttr())
         for path in invalid:
-            problems.append((loc, "connects to <%s>, which is not an input or output of a shader, nodegraph or "
-                                  "material on the stage" % path))
+            prim = self.stage.GetPrimAtPath(path.GetPrimPath()) if path.IsPropertyPath() else None
+            if prim and prim.IsValid() and (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):
+                problems.append((loc, "connects to <%s>, which <%s> does not declare (USD connects only to "
+                                      "authored inputs and outputs)" % (path, path.GetPrimPath())))
+            else:
+                problems.append((loc, "connects to <%s>, which is not an input or output of a shader, nodegraph or "
+                                      "material on the stage" % path))
         if not sources:
             return None
         s = sources[0]
@@ -869,7 +881,16 @@ class _StageReader:
         if "<UDIM>" in authored or "<UVTILE>" in authored:
             return self.tiled_asset(attr, authored, layer, notes, node_spec)
         if resolved:
-            return self.local_file(resolved, attr, notes) or resolved
+            local = self.local_file(resolved, attr, notes)
+            if local is None:
+                return ""
+            from .files import regular_file_problem
+            why = regular_file_problem(local)
+            if why is not None:         # a device or /proc file: never read (files.py); the fallback instead
+                notes.append((self.attr_loc(attr), "texture '%s' is %s; drawing the fallback %s"
+                              % (authored, why, self.fallback_text(attr, node_spec))))
+                return ""
+            return local
         anchored = _anchor(layer, authored)
         notes.append((self.attr_loc(attr), "texture '%s' not found (looked for %s); drawing the fallback %s"
                       % (authored, anchored, self.fallback_text(attr, node_spec))))
@@ -1032,11 +1053,13 @@ class _StageReader:
             return
         out = UsdShade.NodeGraph(self.stage.GetPrimAtPath(path)).GetOutput(out_name)
         want = self.source_type(("ngout", path, out_name), problems) or mx_type_of(out.GetTypeName()) or "float"
+        before = len(problems)
         port = self.port_for(out, sc.graph.name, out_name, want, path, problems, deps, kind="output",
                              consumer=sc.graph.name)
         if port is None:
             port = Port(name=out_name, type=want, loc=self.attr_loc(out.GetAttr()), kind="output")
-            problems.append((port.loc, "output '%s' of nodegraph <%s> is not connected" % (out_name, path)))
+            if len(problems) == before:
+                problems.append((port.loc, "output '%s' of nodegraph <%s> is not connected" % (out_name, path)))
         sc.graph.outputs[out_name] = port
         deps.append(("nodegraph", path))
 

@@ -520,3 +520,126 @@ def test_corpus_materials_generate_and_compile(entry, count, renderer, tmp_path,
     for s in shaders:
         prog = ctx.program(vertex_shader=s.vertex, fragment_shader=s.fragment)      # raises where it does not link
         prog.release()
+
+
+HOSTILE = """#usda 1.0
+def Scope "L" {
+  def Material "Loop" {
+    token outputs:surface.connect = </L/Loop/S.outputs:surface>
+    float inputs:loop.connect = </L/Loop.inputs:loop>
+    def Shader "S" {
+      uniform token info:id = "UsdPreviewSurface"
+      float inputs:roughness.connect = </L/Loop.inputs:loop>
+      token outputs:surface
+    }
+  }
+  def Material "Cycle" {
+    token outputs:surface.connect = </L/Cycle/S.outputs:surface>
+    def Shader "S" {
+      uniform token info:id = "UsdPreviewSurface"
+      color3f inputs:diffuseColor.connect = </L/Cycle/M.outputs:out>
+      token outputs:surface
+    }
+    def Shader "M" {
+      uniform token info:id = "ND_multiply_color3"
+      color3f inputs:in1.connect = </L/Cycle/M.outputs:out>
+      color3f outputs:out
+    }
+  }
+  def Material "SelfRef" {
+    token outputs:surface.connect = </L/SelfRef.outputs:surface>
+  }
+  def Material "Values" {
+    token outputs:surface.connect = </L/Values/S.outputs:surface>
+    def Shader "S" {
+      uniform token info:id = "UsdPreviewSurface"
+      color3f[] inputs:diffuseColor = [(1, 0, 0)]
+      token outputs:surface
+    }
+  }
+  def Material "Inf" {
+    token outputs:surface.connect = </L/Inf/S.outputs:surface>
+    def Shader "S" {
+      uniform token info:id = "UsdPreviewSurface"
+      float inputs:roughness = inf
+      token outputs:surface
+    }
+  }
+  def Material "Undeclared" {
+    token outputs:surface.connect = </L/Undeclared/S.outputs:surface>
+    def Shader "S" {
+      uniform token info:id = "UsdPreviewSurface"
+      color3f inputs:diffuseColor.connect = </L/Undeclared/T.outputs:rgb>
+      token outputs:surface
+    }
+    def Shader "T" {
+      uniform token info:id = "UsdUVTexture"
+    }
+  }
+  def Material "Device" {
+    token outputs:surface.connect = </L/Device/S.outputs:surface>
+    def Shader "S" {
+      uniform token info:id = "UsdPreviewSurface"
+      color3f inputs:diffuseColor.connect = </L/Device/T.outputs:rgb>
+      token outputs:surface
+    }
+    def Shader "T" {
+      uniform token info:id = "UsdUVTexture"
+      asset inputs:file = @/dev/zero@
+      token inputs:wrapS = "sideways"
+      float3 outputs:rgb
+    }
+  }
+  def Material "Bogus" {
+    token outputs:mtlx:surface.connect = </L/Bogus/S.outputs:out>
+    def Shader "S" {
+      uniform token info:id = "ND_surface_unlit"
+      float inputs:bogus = 1
+      token outputs:out
+    }
+  }
+  def Material "Fine" {
+    token outputs:surface.connect = </L/Fine/S.outputs:surface>
+    def Shader "S" {
+      uniform token info:id = "UsdPreviewSurface"
+      token outputs:surface
+    }
+  }
+}
+"""
+
+
+def test_hostile_stages_give_one_line_problems_never_a_traceback(tmp_path, capsys):
+    """Loops through interface inputs, node cycles, a material reading a material, arrays and non-finite values,
+    connections to undeclared outputs, a device as a texture, unknown inputs and tokens: each one line at its
+    prim or attribute, status 1, and the one sound material still written."""
+    from mtlxgen.cli import main
+    path = str(tmp_path / "hostile.usda")
+    with open(path, "w") as f:
+        f.write(HOSTILE)
+    assert main(["generate", path, "-o", str(tmp_path / "o")]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert not [line for line in err if not line.startswith(path + ":/L/")], err
+    expected = {
+        "/L/Loop/S.inputs:roughness": "connections pass through more than 64 interface inputs",
+        "/L/Cycle/M.inputs:in1": "cycle",
+        "/L/SelfRef.outputs:surface": "connects to output 'surface' of material </L/SelfRef>",
+        "/L/Values/S.inputs:diffuseColor": "an array (Vec3fArray) for a color3 input",
+        "/L/Inf/S.inputs:roughness": "non-finite value 'inf'",
+        "/L/Undeclared/S.inputs:diffuseColor": "</L/Undeclared/T> does not declare",
+        "/L/Device/T.inputs:file": "texture '/dev/zero' is a system file (under /dev); drawing the fallback (0, 0, 0, 1)",
+        "/L/Device/T.inputs:wrapS": "wrapS 'sideways' is not one of",
+        "/L/Bogus/S.inputs:bogus": "has no input 'bogus'",
+    }
+    for where, text in expected.items():
+        assert any(line.startswith("%s:%s: " % (path, where)) and text in line for line in err), (where, err)
+    assert sorted(os.listdir(tmp_path / "o")) == ["L_Fine.frag", "L_Fine.json", "L_Fine.vert"]
+
+
+@pytest.mark.parametrize("prim,element", [("/Looks/Leaf", "leaf"), ("/Looks/Stripes", "stripes"), ("/Looks/Gold", "gold")])
+def test_example_stage_draws_what_its_mtlx_form_draws(renderer, prim, element):
+    """examples/usd/preview_stage.usda (goldens in golden_images/) against examples/usd/usd_seed_rules.mtlx."""
+    examples = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "usd")
+    ours, _ = _render(renderer, os.path.join(examples, "preview_stage.usda"), prim)
+    theirs, _ = _render(renderer, os.path.join(examples, "usd_seed_rules.mtlx"), element)
+    _same(ours, theirs, prim)
