@@ -125,6 +125,8 @@ def run_job(job, library_dirs=()):
             shader = session.shader(name)
             t2 = time.perf_counter()
             item.image, gl_times = r.render_timed(shader.vertex, shader.fragment, shader.manifest)
+            # drawn, but with problems to report (a USD stage's: a texture not found, its fallback drawn)
+            item.error = MtlxError(session.notes() + session.notes(name)).lines() if hasattr(session, "notes") else []
             item.timings = {"load_s": load_s, "generate_s": t2 - t1, **gl_times,
                             "total_s": time.perf_counter() - t1 + load_s / len(names)}
         except Exception as e:

@@ -311,12 +311,15 @@ def cmd_batch(args):
             for p in batch.find_materials(args.paths)]
     items = batch.render_jobs(jobs, workers=args.workers,
                               progress=False if args.no_progress else None, library_dirs=args.library)
-    status = 0
+    status, printed = 0, set()
     for it in items:
+        for line in it.error:           # failures, and problems of elements still drawn (USD: missing textures)
+            status = 1
+            if line not in printed:
+                printed.add(line)
+                print(line, file=sys.stderr)
         if not it.ok:
             status = 1
-            for line in it.error:
-                print(line, file=sys.stderr)
             continue
         stem = os.path.splitext(os.path.basename(it.path))[0] + "__" + it.element.replace("/", "_")
         images.write_image(os.path.join(args.output, stem + ".png"), it.image)

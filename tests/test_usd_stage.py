@@ -368,6 +368,9 @@ def test_missing_texture_names_layer_prim_attribute_and_fallback(renderer, tmp_p
         "%s:/Looks/Broken/Tex.inputs:file: texture 'gone/nothere.png' not found (looked for %s); drawing the "
         "fallback (0.25, 0.5, 0.75, 1.0)" % (path, os.path.join(str(tmp_path), "gone", "nothere.png"))]
     assert os.path.isfile(tmp_path / "out" / "Looks_Broken.frag")         # the element is still written
+    assert main(["batch", path, "-o", str(tmp_path / "b"), "-j", "1", "--no-progress"]) == 1
+    assert capsys.readouterr().err.splitlines() == err.splitlines()          # said once, drawn anyway
+    assert sorted(os.listdir(tmp_path / "b")) == ["missing__Looks_Broken.png", "missing__Looks_Plain.png"]
     shaders, error = pipeline.generate(path, partial=True)
     assert len(shaders) == 2 and len(error.problems) == 1
     broken, plain = (renderer.render(s) for s in shaders)
