@@ -270,7 +270,7 @@ def prepare_case_dir(case_dir):
             shutil.copy(os.path.join(d, name), os.path.join(doc, name))
     for name in ("canary.glsl", "canary.mtlx"):
         with open(os.path.join(outside, name), "w") as f:
-            body = "float ext_fn(float x) { return x; } // %s\n" % CANARY
+            body = "void ext_fn(float x, out float r) { r = x; } // %s\n" % CANARY
             f.write(body if name.endswith(".glsl") else
                     '<?xml version="1.0"?>\n<materialx version="1.39">\n<!-- %s -->\n'
                     '<constant name="leak" type="float"><input name="value" type="float" value="1" /></constant>\n'
@@ -299,6 +299,8 @@ def run_case(text, case_dir, compile_program, roots):
         raise _Timeout()
     old = signal.signal(signal.SIGALRM, on_alarm)
     signal.alarm(TIME_LIMIT_S)
+    from mtlxgen import glslcheck
+    glslcheck.context()         # the compile context for document GLSL opens the driver's files: made beforehand
     _Opens.recording = opened
     try:
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
