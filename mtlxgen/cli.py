@@ -321,8 +321,8 @@ def cmd_batch(args):
         if not it.ok:
             status = 1
             continue
-        stem = os.path.splitext(os.path.basename(it.path))[0] + "__" + it.element.replace("/", "_")
-        images.write_image(os.path.join(args.output, stem + ".png"), it.image)
+        from .golden import golden_name
+        images.write_image(os.path.join(args.output, golden_name(it.path, it.element) + ".png"), it.image)
     print(batch.timing_table([("%s:%s" % (it.path, it.element), it.timings, it.ok) for it in items]))
     return status
 

@@ -60,8 +60,11 @@ class Tolerance:
 
 
 def golden_name(path, element):
+    """FILE__ELEMENT: the element's part as generate names its files (emit.file_stem: '/' as '_', and safe
+    and bounded for any name a document holds)."""
+    from .emit import file_stem
     stem = os.path.splitext(os.path.basename(path))[0]
-    return "%s__%s" % (stem, element.replace("/", "_"))
+    return "%s__%s" % (stem, file_stem(element))
 
 
 def is_hdr(img):

@@ -7,6 +7,7 @@ defaultgeomprops turned into geometric nodes, defaults filled in. What remains i
 nodes in dependency order, each with a GLSL implementation in the node table, plus the public
 uniforms of the material. Cycles, unknown nodes and type mismatches are reported with file:line.
 """
+import hashlib
 import re
 from dataclasses import dataclass, field
 
@@ -76,6 +77,9 @@ short half fixed unsigned superp input output filter sizeof cast namespace using
 BSDF EDF VDF surfaceshader volumeshader displacementshader lightshader material""".split())
 
 
+IDENTIFIER_CHARS = 64     # longer names are cut and end in a hash: not every driver takes 1,000-character names
+
+
 def glsl_identifier(name):
     s = re.sub(r"[^A-Za-z0-9_]", "_", name)
     s = re.sub(r"__+", "_", s)
@@ -83,6 +87,9 @@ def glsl_identifier(name):
         s = "n" + s
     if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):
         s = "n_" + s
+    if len(s) > IDENTIFIER_CHARS:
+        digest = hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+        s = s[:IDENTIFIER_CHARS - 10].rstrip("_") + "_h" + digest
     return s
 
 
@@ -130,7 +137,7 @@ class GraphBuilder:
         self.memo = {}                # (scope key, node name) -> {output: Source}
         self.active = set()
         self.uniforms = {}
-        self.used_ids = set()
+        self.used_ids = set(self.lib.structs)     # struct type names are GLSL identifiers too
         self.geom_memo = {}
         self.expanding = []           # nodedefs whose implementation graphs are being expanded
         self.graph_path = []          # "graph.output" of document nodegraph outputs being resolved

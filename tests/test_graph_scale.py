@@ -149,3 +149,27 @@ def test_string_enum_value_outside_the_nodedef_is_an_error_at_its_line(tmp_path,
     ok = build(tmp_path, body.replace("bogus", "RT"), "s", library)
     bsdf, = [n for n in ok.nodes if n.category == "dielectric_bsdf"]
     assert bsdf.static["scatter_mode"] == "RT"
+
+
+def test_long_names_make_bounded_identifiers_that_compile(tmp_path, library, renderer):
+    long_name = "n" + "x" * 300
+    body = ('<add name="%s" type="float"><input name="in1" type="float" value="0.5" /></add>'
+            '<output name="out" type="float" nodename="%s" />' % (long_name, long_name))
+    path = write_doc(tmp_path, body)
+    g = build(tmp_path, body, "out", library)
+    assert all(len(n.id) <= graph.IDENTIFIER_CHARS for n in g.nodes)
+    assert all(len(u) <= graph.IDENTIFIER_CHARS for u in g.uniforms)
+    from mtlxgen import pipeline
+    shader, = pipeline.generate(path)
+    renderer.ctx.__enter__()
+    renderer.ctx.program(vertex_shader=shader.vertex, fragment_shader=shader.fragment).release()
+    # two long names that differ only past the cut stay two identifiers
+    assert graph.glsl_identifier(long_name + "a") != graph.glsl_identifier(long_name + "b")
+
+
+def test_uniform_names_never_take_a_struct_types_name(tmp_path, library):
+    body = """<typedef name="m_in1"><member name="v" type="float" value="1" /></typedef>
+<multiply name="m" type="float"><input name="in2" type="float" value="2" /></multiply>
+<output name="out" type="float" nodename="m" />"""
+    g = build(tmp_path, body, "out", library)
+    assert "m_in1" not in g.uniforms and any(u.startswith("m_in1") for u in g.uniforms)
