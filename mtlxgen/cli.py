@@ -170,6 +170,8 @@ def cmd_generate(args):
 
 def cmd_render(args):
     from . import pipeline, render
+    if args.geometry == "stage" and _usd_options(args) is None:
+        raise MtlxError((Loc(args.file, 0), "--geometry stage draws a USD stage's meshes; this is a MaterialX document"))
     # elements with problems are reported, the others drawn (as generate writes them)
     shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
                                        partial=True, usd_seed_rules=args.usd_seed_rules,
@@ -190,9 +192,25 @@ def cmd_render(args):
             render.write_image(base + ".png", img)
             render.write_image(base + ".exr", img)
             print(base + ".png")
+        if args.geometry == "stage":
+            problems += _render_stage(args, r, shaders)
     if problems:
         raise MtlxError(problems)
     return 0
+
+
+def _render_stage(args, r, shaders):
+    """--geometry stage: the stage's meshes with their materials' shaders, to DIR/STEM__stage.png and .exr."""
+    from . import render, stagerender
+    view = stagerender.read_view(args.file, args.library, _usd_options(args))
+    img = stagerender.render_stage(r, view, {s.element: s for s in shaders},
+                                   stagerender.fallback_shader(args.environment))
+    os.makedirs(args.output, exist_ok=True)
+    base = os.path.join(args.output, os.path.splitext(os.path.basename(args.file))[0] + "__stage")
+    render.write_image(base + ".png", img)
+    render.write_image(base + ".exr", img)
+    print(base + ".png")
+    return view.problems
 
 
 def cmd_info(args):
@@ -368,6 +386,9 @@ def build_parser():
                    help="lat-long HDR/EXR environment (default: built-in sky)")
     p.add_argument("--lights", metavar="RIG.mtlx", type=_readable_file,
                    help="bind a light-rig document's point/directional/spot lights to u_lightData")
+    p.add_argument("--geometry", choices=("sphere", "stage"), default="sphere",
+                   help="stage (USD stages): also draw the stage's own meshes with their materials, from its camera "
+                        "or a framing one, to DIR/STEM__stage.png (default: the sphere per material only)")
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("info", help="list elements, their nodes and unresolved problems")

@@ -73,6 +73,7 @@ class MaterialInfo:
     problems: list = field(default_factory=list)    # [(Loc, message)]: the element cannot be built
     notes: list = field(default_factory=list)       # [(Loc, message)]: reported, the element still drawn
     ignored: list = field(default_factory=list)     # [(Loc, message)]: listed by info only
+    primvars: list = field(default_factory=list)    # varnames of its float2 primvar readers (the stage's meshes)
 
 
 @dataclass
@@ -502,7 +503,19 @@ class _StageReader:
             for s in shaders:
                 if s not in info.shaders:
                     info.shaders.append(s)
+                    if s[1] == "UsdPrimvarReader_float2":
+                        name = self.varname(s[0])
+                        if name and name not in info.primvars:
+                            info.primvars.append(name)
             stack.extend(reversed(deps))
+
+    def varname(self, prim_path):
+        """The varname a primvar reader reads (through a connection to an interface input, as USD allows)."""
+        from pxr import UsdShade
+        inp = UsdShade.Shader(self.stage.GetPrimAtPath(prim_path)).GetInput("varname")
+        target = self.resolve(inp, None, []) if inp else None
+        value = target[1].Get() if target and target[0] == "value" else None
+        return str(value) if value else None
 
     def convert(self, key):
         problems, notes, ignored, deps, shaders = [], [], [], [], []

@@ -428,6 +428,10 @@ def test_cli_options_and_batch(tmp_path, capsys):
     assert "applies to USD stages" in capsys.readouterr().err
     assert main(["batch", path, "-o", str(tmp_path / "b"), "-j", "1", "--no-progress"]) == 0
     assert os.path.isfile(tmp_path / "b" / "variants__Looks_Paint.png")
+    capsys.readouterr()
+    assert main(["render", doc, "-o", str(tmp_path / "r"), "--size", "8", "--geometry", "stage"]) == 1
+    assert capsys.readouterr().err.splitlines() == [
+        "%s:0: --geometry stage draws a USD stage's meshes; this is a MaterialX document" % doc]
 
 
 def test_problems_are_one_line_each_and_other_materials_still_drawn(tmp_path, capsys):
@@ -523,6 +527,12 @@ def test_corpus_materials_generate_and_compile(entry, count, renderer, tmp_path,
     for s in shaders:
         prog = ctx.program(vertex_shader=s.vertex, fragment_shader=s.fragment)      # raises where it does not link
         prog.release()
+    # and on its own geometry, from its camera (or a framing one)
+    from mtlxgen import stagerender
+    view = stagerender.read_view(path)
+    assert not view.problems, view.problems
+    img = stagerender.render_stage(renderer, view, {s.element: s for s in shaders}, stagerender.fallback_shader())
+    assert np.isfinite(img).all() and (img[..., 3] > 0).mean() > 0.01, (view.camera, (img[..., 3] > 0).mean())
 
 
 HOSTILE = """#usda 1.0
@@ -646,3 +656,87 @@ def test_example_stage_draws_what_its_mtlx_form_draws(renderer, prim, element):
     ours, _ = _render(renderer, os.path.join(examples, "preview_stage.usda"), prim)
     theirs, _ = _render(renderer, os.path.join(examples, "usd_seed_rules.mtlx"), element)
     _same(ours, theirs, prim)
+
+
+def _quad(stage, path, x0, y0, size=0.9, st=False):
+    from pxr import UsdGeom
+    mesh = UsdGeom.Mesh.Define(stage, path)
+    mesh.CreatePointsAttr([(x0, y0, 0), (x0 + size, y0, 0), (x0 + size, y0 + size, 0), (x0, y0 + size, 0)])
+    mesh.CreateFaceVertexCountsAttr([4])
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    if st:      # indexed, face-varying: the corners' coordinates through an index list
+        pv = UsdGeom.PrimvarsAPI(mesh).CreatePrimvar("st", T.TexCoord2fArray, UsdGeom.Tokens.faceVarying)
+        pv.Set([(0, 0), (1, 0), (1, 1), (0, 1)])
+        pv.SetIndices([0, 1, 2, 3])
+    return mesh
+
+
+def _emissive(stage, path, colour=None, texture=None):
+    mat = UsdShade.Material.Define(stage, path)
+    surf = _shader(stage, path + "/S", "UsdPreviewSurface", diffuseColor=(T.Color3f, Gf.Vec3f(0, 0, 0)),
+                   roughness=(T.Float, 1.0))
+    if texture:
+        reader = _shader(stage, path + "/R", "UsdPrimvarReader_float2", varname=(T.Token, "st"))
+        tex = _shader(stage, path + "/T", "UsdUVTexture", file=(T.Asset, texture), sourceColorSpace=(T.Token, "raw"))
+        _connect(tex, "st", T.Float2, reader, "result", T.Float2)
+        _connect(surf, "emissiveColor", T.Color3f, tex, "rgb")
+    else:
+        surf.CreateInput("emissiveColor", T.Color3f).Set(Gf.Vec3f(*colour))
+    _surface(mat, surf)
+    return mat
+
+
+def test_stage_geometry_draws_meshes_with_their_materials(renderer, tmp_path):
+    """Four quads seen by the stage's camera: a texture through an indexed face-varying st (the image upright:
+    its top-left quarter at the quad's top-left), a red and a blue material, and an unbound quad in its
+    displayColor. Without the camera a framing one sees all four."""
+    from pxr import UsdGeom
+    from mtlxgen import stagerender
+    # image quarters (row 0 on top): top-left red, top-right green, bottom-left blue, bottom-right white
+    _png(tmp_path, "quarters.png", lambda u, v: (np.where((u < 0.5) & (v < 0.5) | (u >= 0.5) & (v >= 0.5), 255, 0),
+                                                 np.where((u >= 0.5), 255, 0),
+                                                 np.where((v >= 0.5), 255, 0)))
+    stage = Usd.Stage.CreateNew(str(tmp_path / "quads.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    textured = _quad(stage, "/World/Textured", -1.0, 0.05, st=True)
+    red, blue = _quad(stage, "/World/Red", 0.05, 0.05), _quad(stage, "/World/Blue", -1.0, -1.0)
+    plain = _quad(stage, "/World/Plain", 0.05, -1.0)
+    UsdGeom.PrimvarsAPI(plain).CreatePrimvar("displayColor", T.Color3fArray, UsdGeom.Tokens.constant).Set([(0, 0.8, 0)])
+    looks = {"Tex": _emissive(stage, "/Looks/Tex", texture="quarters.png"),
+             "Red": _emissive(stage, "/Looks/Red", (1, 0, 0)), "Blue": _emissive(stage, "/Looks/Blue", (0, 0, 1))}
+    for mesh, look in ((textured, "Tex"), (red, "Red"), (blue, "Blue")):
+        UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(looks[look])
+    cam = UsdGeom.Camera.Define(stage, "/Cam")
+    UsdGeom.Xformable(cam).AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
+    stage.GetRootLayer().Save()
+    path = str(tmp_path / "quads.usda")
+
+    view = stagerender.read_view(path)
+    assert view.camera == "/Cam" and len(view.meshes) == 4
+    shaders = {s.element: s for s in pipeline.generate(path)}
+    img = stagerender.render_stage(renderer, view, shaders, stagerender.fallback_shader())
+    n = img.shape[0]
+
+    def at(x, y):       # scene coordinates in the plane z = 0 -> the pixel the camera sees them at
+        half = 20.955 / 2 / 50 * 5       # default aperture and focal length, 5 units away
+        return img[int((0.5 - y / half / 2) * n), int((0.5 + x / half / 2) * n), :3]
+
+    def near(c, want):
+        return np.allclose(c / max(c.max(), 1e-6), want, atol=0.1) and c.max() > 0.2
+
+    assert near(at(0.5, 0.5), (1, 0, 0)) and near(at(-0.5, -0.5), (0, 0, 1)), (at(0.5, 0.5), at(-0.5, -0.5))
+    plain_px = at(0.5, -0.5)
+    assert plain_px[1] > 2 * plain_px[0] and plain_px[1] > 2 * plain_px[2], plain_px       # its displayColor
+    for (x, y), want in (((-0.8, 0.8), (1, 0, 0)), ((-0.25, 0.8), (0, 1, 0)), ((-0.8, 0.25), (0, 0, 1)),
+                         ((-0.25, 0.25), (1, 1, 1))):
+        assert near(at(x, y), want), ((x, y), at(x, y), want)
+    assert img[0, 0, 3] == 0 and img[n // 2, n // 2, 3] == 0          # background, and the gap between the quads
+
+    stage.RemovePrim("/Cam")
+    stage.GetRootLayer().Save()
+    framed = stagerender.read_view(path)
+    assert framed.camera == "framing"
+    img = stagerender.render_stage(renderer, framed, shaders, stagerender.fallback_shader())
+    h = n // 2
+    quarters = [img[:h, :h], img[:h, h:], img[h:, :h], img[h:, h:]]
+    assert all((q[..., 3] > 0).mean() > 0.05 for q in quarters), [(q[..., 3] > 0).mean() for q in quarters]

@@ -1,0 +1,421 @@
+"""`mtlxgen render SCENE.usda --geometry stage`: the stage's own meshes, each with the shader of its bound
+material, drawn from the stage's camera (or a framing one) into one image, besides the sphere per material.
+
+Read with usd-core: every visible UsdGeomMesh of purpose default or render (instance proxies too), its points,
+faces (polygons as fans), normals (`primvars:normals` or `normals`, any interpolation; smooth ones computed
+where none are authored), the texture coordinates its material's primvar readers name (else `st`, else the
+first float2 primvar) as the renderer's one texcoord stream, tangents from those, its world transform, and
+its material binding (`ComputeBoundMaterial`, GeomSubsets with their own bindings split the faces). Meshes
+without a material draw a grey UsdPreviewSurface in their constant `displayColor`. Subdivision surfaces are
+drawn as their control cage. A stage whose up axis is Z is turned to Y up (the lighting's up) with its camera.
+The camera is the first UsdGeomCamera on the stage; without one, a camera at (0, 0.3, 1) from the centre of
+the meshes' bounds, far enough for a 45 degree view to hold them. The output is square: a camera's aperture
+is fitted inside it (the wider of its two fields of view on both axes).
+"""
+import math
+import os
+import tempfile
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .diagnostics import Loc, MtlxError
+
+MAX_CORNERS = 2 * 10 ** 7           # face corners of all meshes together (memory: ~1 GB of attributes)
+FRAMING_FOV = 45.0
+_Z_UP = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], dtype=np.float64)   # Z up -> Y up
+
+
+@dataclass
+class MeshDraw:
+    prim: str
+    attrs: dict                     # vertex attribute name -> float32 (n, k) array, one row per face corner
+    groups: list                    # [(element or None, int32 triangle corner indices)]
+    world: np.ndarray               # 4x4, column vectors
+    color: tuple = (0.18, 0.18, 0.18)
+    double_sided: bool = False      # USD's default: back faces are not drawn
+
+
+@dataclass
+class StageView:
+    meshes: list
+    view: np.ndarray                # 4x4 world -> eye
+    projection: np.ndarray          # 4x4 eye -> clip
+    eye: tuple
+    camera: str                     # the camera's prim path, or "framing"
+    problems: list = field(default_factory=list)
+
+
+def _time(stage):
+    from pxr import Usd
+    return stage.GetStartTimeCode() if stage.HasAuthoredTimeCodeRange() else Usd.TimeCode.Default()
+
+
+def read_view(path, library_dirs=(), options=None):
+    """The meshes and camera of a USD stage (StageView); material prims are matched to the elements
+    usdstage.load names."""
+    from pxr import Usd, UsdGeom
+
+    from . import usdstage
+    doc = usdstage.load(path, library_dirs, options)
+    info = doc.usd
+    with usdstage._quiet_stderr():
+        stage = usdstage._open(path)
+        if info.options.variants:
+            usdstage.select_variants(stage, path, info.options.variants)
+        time = _time(stage)
+        z_up = UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.z
+        up = _Z_UP if z_up else np.eye(4)
+        cache = UsdGeom.XformCache(time)
+        meshes, problems, corners = [], [], 0
+        camera = None
+        for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
+            img = UsdGeom.Imageable(prim)
+            if prim.IsA(UsdGeom.Camera) and camera is None:
+                camera = prim
+                continue
+            if not (prim.IsA(UsdGeom.Mesh) or prim.IsA(UsdGeom.Sphere) or prim.IsA(UsdGeom.Cube)):
+                continue
+            if img.ComputeVisibility(time) == UsdGeom.Tokens.invisible:
+                continue
+            if img.ComputePurpose() not in (UsdGeom.Tokens.default_, UsdGeom.Tokens.render):
+                continue
+            try:
+                draw = _mesh(prim, info, time, problems)
+            except _Skip as e:
+                problems.append((Loc(path, where=str(prim.GetPath())), "mesh not drawn: %s" % e))
+                continue
+            if draw is None:
+                continue
+            corners += len(draw.attrs["i_position"])
+            if corners > MAX_CORNERS:
+                raise MtlxError((Loc(path, 0), "the stage's meshes have more than %d face corners" % MAX_CORNERS))
+            draw.world = up @ np.array(cache.GetLocalToWorldTransform(prim), dtype=np.float64).T
+            meshes.append(draw)
+        if not meshes:
+            raise MtlxError((Loc(path, 0), "--geometry stage: no visible UsdGeomMesh on the stage"))
+        if camera is not None:
+            view, projection, eye = _camera(camera, time, up)
+            name = str(camera.GetPath())
+        else:
+            view, projection, eye = _framing(meshes)
+            name = "framing"
+    return StageView(meshes, view, projection, eye, name, problems)
+
+
+class _Skip(Exception):
+    pass
+
+
+def _expand(values, interpolation, idx, face_of_corner, what):
+    """Per-corner rows of a primvar or attribute of the given interpolation."""
+    values = np.asarray(values, dtype=np.float64)
+    if values.ndim == 1:
+        values = values[:, None]
+    n = len(idx)
+    if interpolation in ("vertex", "varying"):
+        if len(values) <= idx.max(initial=0):
+            raise _Skip("%s has %d values for %d points" % (what, len(values), idx.max(initial=0) + 1))
+        return values[idx]
+    if interpolation == "faceVarying":
+        if len(values) != n:
+            raise _Skip("%s has %d values for %d face corners" % (what, len(values), n))
+        return values
+    if interpolation == "uniform":
+        if len(values) <= face_of_corner.max(initial=0):
+            raise _Skip("%s has %d values for %d faces" % (what, len(values), face_of_corner.max(initial=0) + 1))
+        return values[face_of_corner]
+    if len(values) < 1:
+        raise _Skip("%s is empty" % what)
+    return np.repeat(values[:1], n, axis=0)
+
+
+def _normalize(v):
+    length = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.where(length > 1e-20, v / np.maximum(length, 1e-20), 0.0)
+
+
+def _implicit(prim, time):
+    """A UsdGeomSphere (radius) or UsdGeomCube (size) as triangles: (P, N, UV per corner, triangles)."""
+    from pxr import UsdGeom
+    from .render import sphere
+    if prim.IsA(UsdGeom.Sphere):
+        radius = float(UsdGeom.Sphere(prim).GetRadiusAttr().Get(time) or 1.0)
+        attrs, index = sphere(64, 32)
+        P = attrs["i_position"].astype(np.float64) * radius
+        return P, attrs["i_normal"].astype(np.float64), attrs["i_texcoord_0"].astype(np.float64), index.reshape(-1, 3)
+    size = float(UsdGeom.Cube(prim).GetSizeAttr().Get(time) or 2.0) / 2.0
+    P, N, UV, tris = [], [], [], []
+    for axis in range(3):
+        for sign in (1.0, -1.0):
+            n = np.zeros(3)
+            n[axis] = sign
+            u = np.zeros(3)
+            u[(axis + 1) % 3] = 1.0
+            v = np.cross(n, u)
+            base = len(P)
+            for a, b in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                P.append((n + (2 * a - 1) * u + (2 * b - 1) * v) * size)
+                N.append(n)
+                UV.append((a, b))
+            tris += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
+    return np.array(P), np.array(N), np.array(UV, dtype=np.float64), np.array(tris)
+
+
+def _mesh(prim, info, time, problems):
+    from pxr import UsdGeom, UsdShade
+    if not prim.IsA(UsdGeom.Mesh):
+        P, N, UV, tris = _implicit(prim, time)
+        groups, _ = _bindings(prim, info, 1, time, np.zeros(len(tris), dtype=np.int64))
+        return _finish(prim, P, N, UV, tris, groups, time)
+    mesh = UsdGeom.Mesh(prim)
+    points = mesh.GetPointsAttr().Get(time)
+    counts = mesh.GetFaceVertexCountsAttr().Get(time)
+    indices = mesh.GetFaceVertexIndicesAttr().Get(time)
+    if points is None or counts is None or indices is None or len(points) == 0 or len(counts) == 0:
+        return None
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    counts = np.asarray(counts, dtype=np.int64)
+    idx = np.asarray(indices, dtype=np.int64)
+    if counts.sum() != len(idx) or (counts < 0).any():
+        raise _Skip("faceVertexCounts sum to %d, faceVertexIndices has %d" % (counts.sum(), len(idx)))
+    if len(idx) and (idx.min() < 0 or idx.max() >= len(pts)):
+        raise _Skip("faceVertexIndices name points that do not exist")
+    faces = len(counts)
+    face_of_corner = np.repeat(np.arange(faces), counts)
+    starts = np.cumsum(counts) - counts
+    ntri = np.maximum(counts - 2, 0)
+    tri_face = np.repeat(np.arange(faces), ntri)
+    k = np.arange(ntri.sum()) - np.repeat(np.cumsum(ntri) - ntri, ntri) + 1
+    s0 = starts[tri_face]
+    tris = np.stack([s0, s0 + k, s0 + k + 1], -1)
+    if mesh.GetOrientationAttr().Get(time) == UsdGeom.Tokens.leftHanded:
+        tris = tris[:, [0, 2, 1]]
+    P = pts[idx]
+    pv = UsdGeom.PrimvarsAPI(prim)
+    # normals: the primvar, else the attribute, else smooth from the faces
+    normal_pv = pv.GetPrimvar("normals")
+    if normal_pv and normal_pv.HasAuthoredValue():
+        N = _expand(normal_pv.ComputeFlattened(time), normal_pv.GetInterpolation(), idx, face_of_corner, "normals")
+    elif mesh.GetNormalsAttr().HasAuthoredValue():
+        N = _expand(mesh.GetNormalsAttr().Get(time), mesh.GetNormalsInterpolation(), idx, face_of_corner, "normals")
+    else:
+        fn = np.cross(P[tris[:, 1]] - P[tris[:, 0]], P[tris[:, 2]] - P[tris[:, 0]])
+        acc = np.zeros_like(pts)
+        for c in range(3):
+            np.add.at(acc, idx[tris[:, c]], fn)
+        N = _normalize(acc)[idx]
+    N = _normalize(N[:, :3])
+    # texture coordinates: the primvar the bound materials' readers name, else st, else any float2 one
+    groups, elements = _bindings(prim, info, faces, time, tri_face)
+    names = [v for e in elements if e in info.materials for v in info.materials[e].primvars] + ["st"]
+    uv_pv = next((pv.GetPrimvar(n) for n in names if pv.HasPrimvar(n) and pv.GetPrimvar(n).HasAuthoredValue()), None)
+    if uv_pv is None:
+        uv_pv = next((p for p in pv.GetPrimvarsWithAuthoredValues()
+                      if str(p.GetTypeName()).startswith(("texCoord2", "float2", "double2"))), None)
+    if uv_pv is not None:
+        UV = _expand(uv_pv.ComputeFlattened(time), uv_pv.GetInterpolation(), idx, face_of_corner, uv_pv.GetName())
+        UV = UV[:, :2] if UV.shape[1] >= 2 else np.zeros((len(idx), 2))
+    else:
+        UV = np.zeros((len(idx), 2))
+    return _finish(prim, P, N, UV, tris, groups, time)
+
+
+def _finish(prim, P, N, UV, tris, groups, time):
+    """Tangents, the vertex attributes and the display colour of a mesh's triangles."""
+    from pxr import UsdGeom
+    pv = UsdGeom.PrimvarsAPI(prim)
+    # tangents along increasing u, from each triangle's positions and coordinates, made perpendicular to N
+    e1, e2 = P[tris[:, 1]] - P[tris[:, 0]], P[tris[:, 2]] - P[tris[:, 0]]
+    d1, d2 = UV[tris[:, 1]] - UV[tris[:, 0]], UV[tris[:, 2]] - UV[tris[:, 0]]
+    det = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
+    t = (e1 * d2[:, 1:2] - e2 * d1[:, 1:2]) * np.where(np.abs(det) > 1e-20, 1.0 / np.where(det == 0, 1, det), 0.0)[:, None]
+    acc = np.zeros_like(P)
+    for c in range(3):
+        np.add.at(acc, tris[:, c], t)
+    T = acc - N * (acc * N).sum(-1, keepdims=True)
+    fallback = np.cross(N, np.where(np.abs(N[:, 1:2]) < 0.9, [[0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0]]))
+    T = _normalize(np.where(np.linalg.norm(T, axis=-1, keepdims=True) > 1e-12, T, fallback))
+    B = np.cross(N, T)
+    f4 = lambda a: np.ascontiguousarray(a, dtype="f4")
+    attrs = {"i_position": f4(P), "i_normal": f4(N), "i_tangent": f4(T), "i_bitangent": f4(B), "i_texcoord_0": f4(UV)}
+    color = (0.18, 0.18, 0.18)
+    dc = pv.GetPrimvar("displayColor")
+    if dc and dc.HasAuthoredValue():
+        value = dc.ComputeFlattened(time)
+        if value is not None and len(value):
+            color = tuple(float(x) for x in value[0])
+    groups = [(element, np.ascontiguousarray(tris[sel].reshape(-1), dtype="i4")) for element, sel in groups]
+    sided = UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(time)
+    return MeshDraw(str(prim.GetPath()), attrs, [g for g in groups if len(g[1])], np.eye(4), color, bool(sided))
+
+
+def _bindings(prim, info, faces, time, tri_face):
+    """[(element or None, triangle selector)] of a mesh and its bound GeomSubsets, and the elements."""
+    from pxr import UsdShade
+    api = UsdShade.MaterialBindingAPI(prim)
+
+    def element_of(p):
+        # the "full" purpose (final renders, as ours are), else the binding for all purposes
+        material, _ = UsdShade.MaterialBindingAPI(p).ComputeBoundMaterial(UsdShade.Tokens.full)
+        return info.by_prim.get(str(material.GetPath())) if material else None
+
+    owner = np.full(faces, -1)
+    groups, elements = [], []
+    for i, subset in enumerate(api.GetMaterialBindSubsets()):
+        ids = subset.GetIndicesAttr().Get(time)
+        if ids is None:
+            continue
+        ids = np.asarray(ids, dtype=np.int64)
+        ids = ids[(ids >= 0) & (ids < faces)]
+        owner[ids] = i
+        e = element_of(subset.GetPrim())
+        groups.append((e, owner[tri_face] == i))
+        elements.append(e)
+    e = element_of(prim)
+    groups.append((e, owner[tri_face] == -1))
+    elements.append(e)
+    return groups, [x for x in elements if x]
+
+
+def _camera(prim, time, up):
+    from pxr import UsdGeom
+    cam = UsdGeom.Camera(prim).GetCamera(time)
+    world = up @ np.array(cam.transform, dtype=np.float64).T
+    view = np.linalg.inv(world)
+    near, far = cam.clippingRange.min, cam.clippingRange.max
+    near = max(near, 1e-4)
+    far = max(far, near * 1.001)
+    if cam.projection == cam.Orthographic:
+        half = 0.05 * max(cam.horizontalAperture, cam.verticalAperture)    # apertures in tenths of a unit
+        proj = np.zeros((4, 4))
+        proj[0, 0] = proj[1, 1] = 1.0 / max(half, 1e-9)
+        proj[2, 2], proj[2, 3], proj[3, 3] = -2.0 / (far - near), -(far + near) / (far - near), 1.0
+    else:
+        focal = max(cam.focalLength, 1e-9)
+        half_tan = max(cam.horizontalAperture, cam.verticalAperture) / 2.0 / focal
+        from .render import perspective
+        proj = perspective(math.degrees(2.0 * math.atan(half_tan)), 1.0, near, far)
+    return view, proj, tuple(world[:3, 3])
+
+
+def _framing(meshes):
+    from .render import look_at, perspective
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for m in meshes:
+        p = m.attrs["i_position"].astype(np.float64)
+        w = p @ m.world[:3, :3].T + m.world[:3, 3]
+        lo, hi = np.minimum(lo, w.min(0)), np.maximum(hi, w.max(0))
+    centre, radius = (lo + hi) / 2.0, max(np.linalg.norm(hi - lo) / 2.0, 1e-6)
+    direction = np.array([0.0, 0.3, 1.0]) / np.linalg.norm([0.0, 0.3, 1.0])
+    distance = radius / math.sin(math.radians(FRAMING_FOV / 2.0)) * 1.05
+    eye = centre + direction * distance
+    view = look_at(eye, centre, (0.0, 1.0, 0.0))
+    proj = perspective(FRAMING_FOV, 1.0, max(distance - radius * 1.5, distance * 1e-3), distance + radius * 1.5)
+    return view, proj, tuple(eye)
+
+
+# ---------------------------------------------------------------- drawing
+
+_FALLBACK = """<?xml version="1.0"?>
+<materialx version="1.39">
+  <UsdPreviewSurface name="display" type="surfaceshader">
+    <input name="diffuseColor" type="color3" value="0.18, 0.18, 0.18" />
+  </UsdPreviewSurface>
+  <surfacematerial name="displayColor" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="display" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def fallback_shader(environment="fis"):
+    """The shader of meshes without a material: a UsdPreviewSurface whose diffuseColor is set per mesh."""
+    from . import pipeline
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "display_color.mtlx")
+        with open(path, "w") as f:
+            f.write(_FALLBACK)
+        return pipeline.generate(path, usd_seed_rules=True, environment=environment)[0]
+
+
+def render_stage(renderer, view, shaders, fallback):
+    """Draw every mesh of `view` with the shader of its element (`shaders`: element -> Shader; `fallback` for
+    meshes without one) into the renderer's framebuffer. Returns linear RGBA float32, row 0 on top."""
+    r, ctx = renderer, renderer.ctx
+    mgl = r.mgl
+    ctx.__enter__()
+    r.fbo.use()
+    ctx.enable(mgl.DEPTH_TEST)
+    ctx.clear(0.0, 0.0, 0.0, 0.0)
+    view_proj = view.projection @ view.view
+    programs = {}
+    try:
+        for mesh in view.meshes:
+            # USD's winding: counter-clockwise seen from the front (rightHanded; leftHanded meshes were turned)
+            if mesh.double_sided or np.linalg.det(mesh.world[:3, :3]) == 0:
+                ctx.disable(mgl.CULL_FACE)
+            else:
+                ctx.enable(mgl.CULL_FACE)
+                ctx.front_face = "ccw" if np.linalg.det(mesh.world[:3, :3]) > 0 else "cw"
+            buffers = {k: (ctx.buffer(v.tobytes()), "%df" % v.shape[1]) for k, v in mesh.attrs.items()}
+            world = mesh.world
+            for element, tris in mesh.groups:
+                shader = shaders.get(element) if element else None
+                shader = shader or fallback
+                key = id(shader)
+                if key not in programs:
+                    programs[key] = ctx.program(vertex_shader=shader.vertex, fragment_shader=shader.fragment)
+                prog = programs[key]
+                _bind(r, prog, shader.manifest, world, view_proj, view.eye)
+                if shader is fallback:
+                    for u in shader.manifest.get("uniforms", []):
+                        if u["name"].endswith("diffuseColor") and u["name"] in prog:
+                            prog[u["name"]].value = tuple(mesh.color[:3])
+                index = ctx.buffer(tris.tobytes())
+                content = [(buf, fmt, name) for name, (buf, fmt) in buffers.items() if name in prog]
+                vao = ctx.vertex_array(prog, content, index)
+                vao.render()
+                vao.release()
+                index.release()
+            for buf, _ in buffers.values():
+                buf.release()
+        raw = r.fbo.read(components=4, dtype="f4")
+    finally:
+        ctx.disable(mgl.CULL_FACE)
+        ctx.front_face = "ccw"
+        for prog in programs.values():
+            prog.release()
+    return np.frombuffer(raw, dtype="f4").reshape(r.size, r.size, 4)[::-1].copy()
+
+
+def _bind(r, prog, manifest, world, view_proj, eye):
+    """What Renderer.render_timed binds around a shader, with this mesh's matrices and the stage's camera."""
+    units = [("u_envRadiance", r.env), ("u_envIrradiance", r.irradiance)]
+    for tex in manifest.get("textures", []):
+        t = r.image_texture(tex["file"]) if tex.get("file") else None
+        if t is None and tex.get("default") is not None:
+            t = r.constant_texture(tex["default"])
+        if t is not None:
+            units.append((tex["uniform"], t))
+    for unit, (name, t) in enumerate(units):
+        if name in prog:
+            t.use(unit)
+            prog[name].value = unit
+    mats = {"u_worldMatrix": world, "u_viewProjectionMatrix": view_proj,
+            "u_worldInverseTransposeMatrix": np.linalg.inv(world).T}
+    if r.scene.world_inverse:
+        mats["u_worldInverseMatrix"] = np.linalg.inv(world)
+    if r.scene.env_matrix is not None:
+        mats["u_envMatrix"] = np.array(r.scene.env_matrix)
+    for name, m in mats.items():
+        if name in prog:
+            prog[name].write(np.ascontiguousarray(m.T, dtype="f4").tobytes())
+    scalars = {"u_viewPosition": tuple(float(x) for x in eye), "u_envRadianceMips": r.env_mips,
+               "u_envRadianceSamples": r.env_samples, "u_envLightIntensity": 1.0, "u_numActiveLightSources": 0}
+    for name, value in scalars.items():
+        if name in prog:
+            prog[name].value = value
+    if r.lights:
+        from .lights import bind_lights
+        bind_lights(prog, r.lights)
