@@ -740,3 +740,34 @@ def test_stage_geometry_draws_meshes_with_their_materials(renderer, tmp_path):
     h = n // 2
     quarters = [img[:h, :h], img[:h, h:], img[h:, :h], img[h:, h:]]
     assert all((q[..., 3] > 0).mean() > 0.05 for q in quarters), [(q[..., 3] > 0).mean() for q in quarters]
+
+
+def test_stage_geometry_subsets_purposes_and_up_axis(tmp_path):
+    """A GeomSubset takes its faces to its own material; proxy and invisible meshes are not drawn; a Z-up stage is
+    turned Y-up; an implicit sphere is tessellated."""
+    from pxr import UsdGeom
+    from mtlxgen import stagerender
+    stage = Usd.Stage.CreateNew(str(tmp_path / "subsets.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    mesh = UsdGeom.Mesh.Define(stage, "/World/Two")
+    mesh.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (2, 0, 0), (2, 1, 0)])
+    mesh.CreateFaceVertexCountsAttr([4, 4])
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 2, 3, 1, 4, 5, 2])
+    red, blue = _emissive(stage, "/Looks/Red", (1, 0, 0)), _emissive(stage, "/Looks/Blue", (0, 0, 1))
+    UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(red)
+    subset = UsdShade.MaterialBindingAPI(mesh.GetPrim()).CreateMaterialBindSubset("right", [1])
+    UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(blue)
+    proxy = _quad(stage, "/World/Proxy", 0, 0)
+    UsdGeom.Imageable(proxy).CreatePurposeAttr(UsdGeom.Tokens.proxy)
+    hidden = _quad(stage, "/World/Hidden", 0, 0)
+    UsdGeom.Imageable(hidden).MakeInvisible()
+    UsdGeom.Sphere.Define(stage, "/World/Ball").CreateRadiusAttr(0.5)
+    stage.GetRootLayer().Save()
+    view = stagerender.read_view(str(tmp_path / "subsets.usda"))
+    assert [m.prim for m in view.meshes] == ["/World/Two", "/World/Ball"] and view.camera == "framing"
+    groups = {element: len(tris) // 3 for element, tris in view.meshes[0].groups}
+    assert groups == {"Looks_Blue": 2, "Looks_Red": 2}           # two triangles a face
+    z = view.meshes[0].world @ np.array([0.0, 0.0, 1.0, 0.0])
+    assert np.allclose(z[:3], (0, 1, 0))                        # the stage's up is the lighting's up
+    ball = view.meshes[1].attrs["i_position"]
+    assert np.allclose(np.linalg.norm(ball, axis=1), 0.5, atol=1e-6)
