@@ -302,13 +302,6 @@ def element_name(prim_path):
     return re.sub(r"/+", "_", text) or "root"
 
 
-def _lines_of(error):
-    return list(error.problems) if isinstance(error, MtlxError) else [(UNKNOWN_LOC, str(error))]
-
-
-UNKNOWN_LOC = Loc("<usd>", 0)
-
-
 # ---------------------------------------------------------------- the reader
 
 @dataclass

@@ -771,3 +771,16 @@ def test_stage_geometry_subsets_purposes_and_up_axis(tmp_path):
     assert np.allclose(z[:3], (0, 1, 0))                        # the stage's up is the lighting's up
     ball = view.meshes[1].attrs["i_position"]
     assert np.allclose(np.linalg.norm(ball, axis=1), 0.5, atol=1e-6)
+
+
+def test_composition_errors_are_problems_at_their_prim(tmp_path, capsys):
+    from mtlxgen.cli import main
+    path = tmp_path / "comp.usda"
+    path.write_text('#usda 1.0\ndef "Ref" (references = @./missing.usda@) {}\ndef Material "M" {\n'
+                    '  token outputs:surface.connect = </M/S.outputs:surface>\n  def Shader "S" {\n'
+                    '    uniform token info:id = "UsdPreviewSurface"\n    token outputs:surface\n  }\n}\n')
+    assert main(["generate", str(path), "-o", str(tmp_path / "o")]) == 1
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("%s:/Ref: composition: Could not open asset @" % path), lines
+    assert "missing.usda" in lines[0]
+    assert sorted(os.listdir(tmp_path / "o")) == ["M.frag", "M.json", "M.vert"]
