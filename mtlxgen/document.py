@@ -172,8 +172,8 @@ class _Builder:
                 p.value = mxtypes.parse_value(p.type, text, self.doc.structs)
             except mxtypes.ValueError_ as e:
                 p.error = "%s '%s' of type %s: %s" % (kind, name, p.type, e)
-        if p.type == "filename" and p.colorspace is None:
-            p.colorspace = ctx.get("colorspace")
+        if p.type in ("filename", "color3", "color4") and p.colorspace is None:
+            p.colorspace = ctx.get("colorspace")      # its active colour space: node's, nodegraph's, document's
         return p
 
     def ports_of(self, el, ctx, target):

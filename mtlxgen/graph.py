@@ -141,6 +141,7 @@ class GraphBuilder:
         self.geom_memo = {}
         self.expanding = []           # nodedefs whose implementation graphs are being expanded
         self.graph_path = []          # "graph.output" of document nodegraph outputs being resolved
+        self.direct_graph = None      # the nodegraph whose output is the element drawn (its inputs: sockets)
 
     # ---------- names ----------
     def new_id(self, stem):
@@ -311,6 +312,32 @@ class GraphBuilder:
         return Source(t, value=value, uniform=name, colorspace=colorspace if t == "filename" else None,
                       unit=port.unit or declared.unit, unittype=port.unittype or declared.unittype, loc=port.loc)
 
+    def color_managed(self, src, port, scope, stem):
+        """A node's colour input converted from its active colour space (its own `colorspace`, else its
+        node's, nodegraph's or document's) to the working space, as MaterialX's colour management does:
+        only values, never connections; a value reaching the input by interfacename counts where MaterialX
+        reads the nodegraph through a connection, not where the nodegraph's own output is the element drawn
+        (there its inputs are the shader's, unconverted), nor inside a nodedef's implementation (a function
+        parameter). A public uniform keeps its authored value and a cmlib node converts it in the shader;
+        a constant is converted here."""
+        from .nodes import cmlib
+        if src.linked or not cmlib.is_working_space(self.doc.colorspace) or cmlib.canonical(port.colorspace) is None:
+            return src
+        if port.interfacename and not (scope.public and scope.graph is not None
+                                       and scope.graph.name != self.direct_graph):
+            return src
+        if not src.uniform:
+            return Source(src.type, value=cmlib.convert_value(port.colorspace, src.value), loc=src.loc,
+                          unit=src.unit, unittype=src.unittype)
+        nd = self.lib.nodedefs.get(cmlib.nodedef_name(port.colorspace, src.type))
+        if nd is None:          # a library without cmlib: as MaterialX, which then has no transform
+            return src
+        ident = self.new_id(stem + "_cm")
+        self.nodes[ident] = GNode(id=ident, category=nd.category, nodedef=nd, inputs={"in": src},
+                                  outputs={o.name: o.type for o in nd.outputs.values()}, loc=port.loc)
+        self.order.append(ident)
+        return Source(src.type, node=ident, output="out", loc=port.loc)
+
     @staticmethod
     def check_enum(decl, src, port, node, nd):
         """A string input whose nodedef lists its values (`enum`) must hold one of them: the emitter turns
@@ -440,6 +467,8 @@ class GraphBuilder:
                     src = Source(decl.type, value=value, loc=p.loc,
                                  colorspace=(p.colorspace or decl.colorspace) if decl.type == "filename" else None,
                                  unit=p.unit or decl.unit, unittype=p.unittype or decl.unittype)
+            if port is not None and decl.type in ("color3", "color4"):
+                src = self.color_managed(src, port, scope, "%s_%s" % (stem, name))
             if decl.type in ("string", "geomname") and not src.linked:
                 static[name] = src.value
                 self.check_enum(decl, src, port or decl, node, nd)
@@ -528,6 +557,7 @@ class GraphBuilder:
             g = doc.nodegraphs.get(gname)
             if g is None or oname not in g.outputs:
                 raise MtlxError((Loc(doc.path, 0), "no element '%s' in the document" % element))
+            self.direct_graph = gname
             return "output", self.graph_output(g, g.outputs[oname])
         if element in doc.outputs:
             port = doc.outputs[element]
