@@ -142,6 +142,7 @@ class Emitter:
         self.body = []
         self.names = set(graph.uniforms) | set(graph.structs)   # a variable must not hide a struct type
         self.textures = {}            # sampler uniform -> extra manifest fields
+        self.primvars = []            # manifest "primvars": readers of named geometry primvars (nodes/usd.py)
         self.uses_closures = False
         self.closure_nodes = {}       # id -> GNode of closure nodes, evaluated per context by shader nodes
         self.context = None           # closure context being emitted ("reflection", "indirect", ...)
@@ -597,6 +598,8 @@ class Emitter:
         }
         if lit:
             manifest["environment"] = self.environment
+        if self.primvars:
+            manifest["primvars"] = self.primvars
         code = self.document_code + (vertex_emitter.document_code if vertex_emitter is not None else [])
         return Shader(g.element, vertex, fragment, manifest, document_code=code)
 

@@ -5,8 +5,11 @@ Read with usd-core: every visible UsdGeomMesh of purpose default or render (inst
 faces (polygons as fans), normals (`primvars:normals` or `normals`, any interpolation; smooth ones computed
 where none are authored), the texture coordinates its material's primvar readers name (else `st`, else the
 first float2 primvar) as the renderer's one texcoord stream, tangents from those, its world transform, and
-its material binding (`ComputeBoundMaterial`, GeomSubsets with their own bindings split the faces). Meshes
-without a material draw a grey UsdPreviewSurface in their constant `displayColor`. Subdivision surfaces are
+its material binding (`ComputeBoundMaterial`, GeomSubsets with their own bindings split the faces). The
+primvars its materials' other primvar readers (float, float3, float4, int) and MaterialX geompropvalue nodes
+name are bound as the vertex attributes the shaders read (the manifest's "attributes" and "primvars"), any
+interpolation on a mesh, constant ones on an implicit Sphere or Cube; a reader whose primvar the mesh lacks
+draws its fallback. Meshes without a material draw a grey UsdPreviewSurface in their constant `displayColor`. Subdivision surfaces are
 drawn as their control cage. A stage whose up axis is Z is turned to Y up (the lighting's up) with its camera.
 The camera is the first UsdGeomCamera on the stage; without one, a camera at (0, 0.3, 1) from the centre of
 the meshes' bounds, far enough for a 45 degree view to hold them. The output is square: a camera's aperture
@@ -34,6 +37,7 @@ class MeshDraw:
     world: np.ndarray               # 4x4, column vectors
     color: tuple = (0.18, 0.18, 0.18)
     double_sided: bool = False      # USD's default: back faces are not drawn
+    primvars: dict = field(default_factory=dict)    # primvar name -> float64 (n, k), one row per face corner
 
 
 @dataclass
@@ -166,8 +170,10 @@ def _mesh(prim, info, time, problems):
     from pxr import UsdGeom, UsdShade
     if not prim.IsA(UsdGeom.Mesh):
         P, N, UV, tris = _implicit(prim, time)
-        groups, _ = _bindings(prim, info, 1, time, np.zeros(len(tris), dtype=np.int64))
-        return _finish(prim, P, N, UV, tris, groups, time)
+        groups, elements = _bindings(prim, info, 1, time, np.zeros(len(tris), dtype=np.int64))
+        draw = _finish(prim, P, N, UV, tris, groups, time)
+        draw.primvars = _vertex_primvars(prim, info, elements, time, None, None, len(P), problems)
+        return draw
     mesh = UsdGeom.Mesh(prim)
     points = mesh.GetPointsAttr().Get(time)
     counts = mesh.GetFaceVertexCountsAttr().Get(time)
@@ -218,7 +224,52 @@ def _mesh(prim, info, time, problems):
         UV = UV[:, :2] if UV.shape[1] >= 2 else np.zeros((len(idx), 2))
     else:
         UV = np.zeros((len(idx), 2))
-    return _finish(prim, P, N, UV, tris, groups, time)
+    draw = _finish(prim, P, N, UV, tris, groups, time)
+    draw.primvars = _vertex_primvars(prim, info, elements, time, idx, face_of_corner, len(idx), problems)
+    return draw
+
+
+def _vertex_primvars(prim, info, elements, time, idx, face_of_corner, corners, problems):
+    """{name: per-corner values} of the primvars the bound materials read as vertex attributes (not their
+    texture coordinates). A primvar whose values do not fit the mesh is a problem, and its readers draw their
+    fallback; an implicit Sphere or Cube (idx None) takes constant primvars only."""
+    from pxr import UsdGeom
+    pv = UsdGeom.PrimvarsAPI(prim)
+    names = []
+    for e in elements:
+        m = info.materials.get(e)
+        names += [n for n in (m.vertex_primvars if m else ()) if n not in names]
+    out = {}
+    for name in names:
+        primvar = pv.GetPrimvar(name) if pv.HasPrimvar(name) else None
+        if primvar is None or not primvar.HasAuthoredValue():
+            continue
+        loc = Loc(info.path, where=str(primvar.GetAttr().GetPath()))
+        interpolation = primvar.GetInterpolation()
+        try:
+            values = primvar.ComputeFlattened(time)
+            if values is None:
+                continue
+            try:
+                values = np.asarray(values, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise _Skip("its values (%s) are not numbers" % primvar.GetTypeName()) from None
+            if values.ndim == 1:
+                values = values[:, None]
+            if values.ndim != 2 or not np.isfinite(values).all():
+                raise _Skip("its values are not finite numbers")
+            if idx is None:
+                if interpolation != UsdGeom.Tokens.constant:
+                    raise _Skip("%s values on an implicit %s (drawn tessellated): only constant ones are read"
+                                % (interpolation, prim.GetTypeName()))
+                if len(values) < 1:
+                    raise _Skip("it is empty")
+                out[name] = np.repeat(values[:1], corners, axis=0)
+            else:
+                out[name] = _expand(values, interpolation, idx, face_of_corner, "it")
+        except _Skip as e:
+            problems.append((loc, "primvar not bound (its readers draw their fallback): %s" % e))
+    return out
 
 
 def _finish(prim, P, N, UV, tris, groups, time):
@@ -359,6 +410,7 @@ def render_stage(renderer, view, shaders, fallback):
                 ctx.enable(mgl.CULL_FACE)
                 ctx.front_face = "ccw" if np.linalg.det(mesh.world[:3, :3]) > 0 else "cw"
             buffers = {k: (ctx.buffer(v.tobytes()), "%df" % v.shape[1]) for k, v in mesh.attrs.items()}
+            primvar_buffers = {}
             world = mesh.world
             for element, tris in mesh.groups:
                 shader = shaders.get(element) if element else None
@@ -374,11 +426,12 @@ def render_stage(renderer, view, shaders, fallback):
                             prog[u["name"]].value = tuple(mesh.color[:3])
                 index = ctx.buffer(tris.tobytes())
                 content = [(buf, fmt, name) for name, (buf, fmt) in buffers.items() if name in prog]
+                content += _bind_primvars(ctx, prog, shader.manifest, mesh, primvar_buffers)
                 vao = ctx.vertex_array(prog, content, index)
                 vao.render()
                 vao.release()
                 index.release()
-            for buf, _ in buffers.values():
+            for buf, _ in list(buffers.values()) + list(primvar_buffers.values()):
                 buf.release()
         raw = r.fbo.read(components=4, dtype="f4")
     finally:
@@ -387,6 +440,40 @@ def render_stage(renderer, view, shaders, fallback):
         for prog in programs.values():
             prog.release()
     return np.frombuffer(raw, dtype="f4").reshape(r.size, r.size, 4)[::-1].copy()
+
+
+_GLSL_COMPONENTS = {"float": (1, "f4", "f"), "vec2": (2, "f4", "f"), "vec3": (3, "f4", "f"), "vec4": (4, "f4", "f"),
+                    "int": (1, "i4", "i")}
+
+
+def _bind_primvars(ctx, prog, manifest, mesh, cache):
+    """Vertex-array entries for the mesh's primvars that the shader reads (its i_geomprop_NAME attributes:
+    the seed's primvar readers, named in the manifest's "primvars", and MaterialX's geompropvalue nodes), and
+    each seed reader's flag uniform: 1 where the mesh has its primvar, else 0 (the fallback). A primvar with
+    fewer components than the attribute is padded with zeros, one with more is cut."""
+    readers = {p["attribute"]: p for p in manifest.get("primvars", [])}
+    content = []
+    for attribute, glsl in manifest.get("attributes", {}).items():
+        if not attribute.startswith("i_geomprop_") or attribute not in prog or glsl not in _GLSL_COMPONENTS:
+            continue
+        reader = readers.get(attribute)
+        values = mesh.primvars.get(reader["varname"] if reader else attribute[len("i_geomprop_"):])
+        if values is None:
+            continue
+        k, dtype, code = _GLSL_COMPONENTS[glsl]
+        key = (attribute, glsl)
+        if key not in cache:
+            rows = np.zeros((len(values), k))
+            rows[:, :min(k, values.shape[1])] = values[:, :k]
+            if code == "i":
+                rows = np.clip(np.rint(rows), -2 ** 31, 2 ** 31 - 1)
+            cache[key] = (ctx.buffer(np.ascontiguousarray(rows, dtype=dtype).tobytes()), "%d%s" % (k, code))
+        buf, fmt = cache[key]
+        content.append((buf, fmt, attribute))
+    for attribute, reader in readers.items():
+        if reader["uniform"] in prog:
+            prog[reader["uniform"]].value = int(any(name == attribute for _, _, name in content))
+    return content
 
 
 def _bind(r, prog, manifest, world, view_proj, eye):

@@ -74,6 +74,7 @@ class MaterialInfo:
     notes: list = field(default_factory=list)       # [(Loc, message)]: reported, the element still drawn
     ignored: list = field(default_factory=list)     # [(Loc, message)]: listed by info only
     primvars: list = field(default_factory=list)    # varnames of its float2 primvar readers (the stage's meshes)
+    vertex_primvars: list = field(default_factory=list)     # primvars its other readers and geompropvalues read
 
 
 @dataclass
@@ -243,6 +244,10 @@ _SAME_SIZE = {"vector3": "color3", "color3": "vector3", "vector4": "color4", "co
 _PRIMVAR_TYPES = {"float": "float", "float2": "vector2", "float3": "vector3", "float4": "vector4", "int": "integer",
                   "string": "string", "normal": "vector3", "point": "vector3", "vector": "vector3",
                   "matrix": "matrix44"}
+
+# primvar readers drawn from a vertex attribute on the stage's meshes (float2 ones read the texture coordinates)
+_VERTEX_READERS = tuple("UsdPrimvarReader_" + t for t in ("float", "float3", "float4", "int", "normal", "point",
+                                                          "vector"))
 
 USD_SHADER_IDS = ("UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader_<type>", "UsdTransform2d")
 
@@ -500,12 +505,16 @@ class _StageReader:
                         name = self.varname(s[0])
                         if name and name not in info.primvars:
                             info.primvars.append(name)
+                    elif s[1] in _VERTEX_READERS or s[1].startswith("ND_geompropvalue_"):
+                        name = self.varname(s[0], "geomprop" if s[1].startswith("ND_") else "varname")
+                        if name and name not in info.vertex_primvars:
+                            info.vertex_primvars.append(name)
             stack.extend(reversed(deps))
 
-    def varname(self, prim_path):
+    def varname(self, prim_path, input_name="varname"):
         """The varname a primvar reader reads (through a connection to an interface input, as USD allows)."""
         from pxr import UsdShade
-        inp = UsdShade.Shader(self.stage.GetPrimAtPath(prim_path)).GetInput("varname")
+        inp = UsdShade.Shader(self.stage.GetPrimAtPath(prim_path)).GetInput(input_name)
         target = self.resolve(inp, None, []) if inp else None
         value = target[1].Get() if target and target[0] == "value" else None
         return str(value) if value else None

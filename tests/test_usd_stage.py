@@ -784,3 +784,134 @@ def test_composition_errors_are_problems_at_their_prim(tmp_path, capsys):
     assert len(lines) == 1 and lines[0].startswith("%s:/Ref: composition: Could not open asset @" % path), lines
     assert "missing.usda" in lines[0]
     assert sorted(os.listdir(tmp_path / "o")) == ["M.frag", "M.json", "M.vert"]
+
+
+# ---------------------------------------------------------------- primvars other than texture coordinates
+
+def _primvar(mesh, name, type_name, values, interpolation="constant"):
+    from pxr import UsdGeom
+    UsdGeom.PrimvarsAPI(mesh).CreatePrimvar(name, type_name, interpolation).Set(values)
+
+
+def _reader_look(stage, path, sid, varname, out_type, chain=(), fallback=None):
+    """UsdPreviewSurface (black, rough) whose emissiveColor comes from a primvar reader `sid` reading `varname`,
+    through MaterialX nodes `chain` [(id, input the previous output goes into, {other inputs})]."""
+    mat = UsdShade.Material.Define(stage, path)
+    surf = _shader(stage, path + "/S", "UsdPreviewSurface", diffuseColor=(T.Color3f, Gf.Vec3f(0, 0, 0)),
+                   roughness=(T.Float, 1.0))
+    reader = _shader(stage, path + "/Reader", sid, varname=(T.String, varname))
+    if fallback is not None:
+        reader.CreateInput("fallback", fallback[0]).Set(fallback[1])
+    source, output, t = reader, "result", out_type
+    for i, (nd, into, extra) in enumerate(chain):
+        node = _shader(stage, "%s/N%d" % (path, i), nd, **extra)
+        for name in (into if isinstance(into, tuple) else (into,)):
+            _connect(node, name, t, source, output, t)
+        source, output, t = node, "out", {"ND_convert_float_color3": T.Color3f, "ND_combine3_color3": T.Color3f,
+                                          "ND_convert_integer_float": T.Float, "ND_multiply_float": T.Float,
+                                          "ND_extract_vector4": T.Float}[nd]
+    _connect(surf, "emissiveColor", T.Color3f, source, output, t)
+    _surface(mat, surf)
+    return mat
+
+
+def _primvar_stage(tmp_path):
+    """A 3 x 3 grid of quads before the camera, each drawing a primvar through its material's reader."""
+    from pxr import UsdGeom
+    stage = Usd.Stage.CreateNew(str(tmp_path / "primvars.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    colour = _reader_look(stage, "/Looks/Colour", "UsdPrimvarReader_float3", "displayColor", T.Float3,
+                          fallback=(T.Float3, Gf.Vec3f(0, 0, 1)))
+    level = _reader_look(stage, "/Looks/Level", "UsdPrimvarReader_float", "level", T.Float,
+                         [("ND_convert_float_color3", "in", {})])
+    four = _reader_look(stage, "/Looks/Four", "UsdPrimvarReader_float4", "rgba", T.Float4)
+    for i, c in enumerate("xyz"):         # extract x, y, z into a colour (a chain with three branches)
+        _shader(stage, "/Looks/Four/E" + c, "ND_extract_vector4", index=(T.Int, i))
+        _connect(UsdShade.Shader.Get(stage, "/Looks/Four/E" + c), "in", T.Float4,
+                 UsdShade.Shader.Get(stage, "/Looks/Four/Reader"), "result", T.Float4)
+    combine = _shader(stage, "/Looks/Four/Combine", "ND_combine3_color3")
+    for i, c in enumerate("xyz"):
+        _connect(combine, "in%d" % (i + 1), T.Float, UsdShade.Shader.Get(stage, "/Looks/Four/E" + c), "out", T.Float)
+    _connect(UsdShade.Shader.Get(stage, "/Looks/Four/S"), "emissiveColor", T.Color3f, combine, "out", T.Color3f)
+    count = _reader_look(stage, "/Looks/Count", "UsdPrimvarReader_int", "count", T.Int,
+                         [("ND_convert_integer_float", "in", {}), ("ND_multiply_float", "in1", {"in2": (T.Float, 0.25)}),
+                          ("ND_convert_float_color3", "in", {})])
+    spaced = _reader_look(stage, "/Looks/Spaced", "UsdPrimvarReader_float3", "my:tint", T.Float3)
+    mx = UsdShade.Material.Define(stage, "/Looks/Mx")         # MaterialX's geompropvalue reads it too
+    prop = _shader(stage, "/Looks/Mx/Prop", "ND_geompropvalue_color3", geomprop=(T.String, "displayColor"))
+    unlit = _shader(stage, "/Looks/Mx/Unlit", "ND_surface_unlit")
+    _connect(unlit, "emission_color", T.Color3f, prop, "out", T.Color3f)
+    _surface(mx, unlit, "mtlx")
+
+    quads = {}
+    for row, names in enumerate((("Red", "Bare", "Ramp"), ("Wrong", "Four", "Count"), ("Yellow", "Magenta", None))):
+        for col, name in enumerate(names):
+            if name:
+                quads[name] = _quad(stage, "/World/" + name, -1.0 + 0.7 * col, 0.4 - 0.7 * row, size=0.6)
+    _primvar(quads["Red"], "displayColor", T.Color3fArray, [(1, 0, 0)])
+    _primvar(quads["Ramp"], "level", T.FloatArray, [0, 1, 1, 0], "vertex")          # dark left, bright right
+    _primvar(quads["Wrong"], "displayColor", T.Color3fArray, [(1, 0, 0), (1, 0, 0)], "vertex")   # 2 for 4 points
+    _primvar(quads["Four"], "rgba", T.Float4Array, [(0, 1, 0, 1)], "uniform")
+    _primvar(quads["Count"], "count", T.IntArray, [2])
+    _primvar(quads["Yellow"], "displayColor", T.Color3fArray, [(1, 1, 0)])
+    _primvar(quads["Magenta"], "my:tint", T.Color3fArray, [(1, 0, 1)], "faceVarying")
+    UsdGeom.PrimvarsAPI(quads["Magenta"]).GetPrimvar("my:tint").Set([(1, 0, 1)] * 4)
+    looks = {"Red": colour, "Bare": colour, "Wrong": colour, "Ramp": level, "Four": four, "Count": count,
+             "Yellow": mx, "Magenta": spaced}
+    for name, look in looks.items():
+        UsdShade.MaterialBindingAPI.Apply(quads[name].GetPrim()).Bind(look)
+    cam = UsdGeom.Camera.Define(stage, "/Cam")
+    UsdGeom.Xformable(cam).AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
+    stage.GetRootLayer().Save()
+    return str(tmp_path / "primvars.usda")
+
+
+def test_stage_meshes_bind_the_primvars_their_readers_name(renderer, tmp_path):
+    """float3 (constant displayColor, a namespaced name through faceVarying), float (vertex), float4 (uniform) and
+    int primvars reach the readers as vertex attributes; MaterialX's geompropvalue reads the same attribute; a mesh
+    without the primvar, or with one that does not fit it (a one-line problem), draws the reader's fallback."""
+    from mtlxgen import stagerender
+    path = _primvar_stage(tmp_path)
+    view = stagerender.read_view(path)
+    assert [(str(loc), text) for loc, text in view.problems] == [
+        ("%s:/World/Wrong.primvars:displayColor" % path,
+         "primvar not bound (its readers draw their fallback): it has 2 values for 4 points")]
+    shaders = {s.element: s for s in pipeline.generate(path)}
+    spaced = shaders["Looks_Spaced"].manifest["primvars"]
+    assert len(spaced) == 1 and spaced[0]["varname"] == "my:tint" and spaced[0]["attribute"].startswith(
+        "i_geomprop_my_tint_")                          # ':' is no GLSL: a hashed name
+    img = stagerender.render_stage(renderer, view, shaders, stagerender.fallback_shader())
+    n = img.shape[0]
+
+    def at(x, y):
+        half = 20.955 / 2 / 50 * 5
+        return img[int((0.5 - y / half / 2) * n), int((0.5 + x / half / 2) * n), :3]
+
+    def colour(col, row, dx=0.0):       # the centre of a grid cell (dx: across it, -0.3 .. 0.3)
+        return at(-0.7 + 0.7 * col + dx, 0.7 - 0.7 * row)
+
+    def near(c, want):
+        return np.allclose(c / max(c.max(), 1e-6), want, atol=0.12) and c.max() > 0.2
+
+    expected = {(0, 0): (1, 0, 0), (1, 0): (0, 0, 1), (0, 1): (0, 0, 1), (1, 1): (0, 1, 0), (2, 1): (1, 1, 1),
+                (0, 2): (1, 1, 0), (1, 2): (1, 0, 1)}
+    for (col, row), want in expected.items():
+        assert near(colour(col, row), want), ((col, row), colour(col, row), want)
+    assert abs(colour(2, 1).mean() - 0.5) < 0.1, colour(2, 1)                  # count 2 * 0.25
+    left, right = colour(2, 0, -0.25).mean(), colour(2, 0, 0.25).mean()
+    assert right > 0.7 and left < 0.3, (left, right)                             # level 0 -> 1 across the quad
+
+
+def test_sphere_draws_the_readers_fallback(renderer, tmp_path):
+    """The sphere has no primvars but its texture coordinates: a displayColor reader draws its fallback (as the
+    seed says and Storm draws a mesh that authors no displayColor), its flag uniform left at 0."""
+    path = _primvar_stage(tmp_path)
+    img, shader = _render(renderer, path, "/Looks/Colour")
+    (entry,) = shader.manifest["primvars"]
+    assert entry["varname"] == "displayColor" and entry["attribute"] == "i_geomprop_displayColor"
+    assert shader.manifest["attributes"][entry["attribute"]] == "vec3"
+    assert next(u["value"] for u in shader.manifest["uniforms"] if u["name"] == entry["uniform"]) == 0
+    centre = img[56:72, 56:72, :3].reshape(-1, 3).mean(0)
+    assert centre[2] > 4 * max(centre[0], centre[1]) and centre[2] > 0.5, centre
+    grey, _ = _render(renderer, path, "/Looks/Level")             # no fallback authored: the seed's 0
+    assert grey[56:72, 56:72, :3].max() < 0.2

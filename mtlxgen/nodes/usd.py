@@ -22,12 +22,20 @@ glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES), and accepts
   Wrapping is done in GLSL (glsl_lib/usd/usd_uvtexture.glsl), so it holds whatever the sampler state;
   the manifest's texture entry also carries the MaterialX address modes, channel count and colour space.
 - UsdPrimvarReader: a float2 reader of any varname reads the renderer's texture coordinates (the one
-  primvar its geometry has); readers of other types return their fallback (string and filename readers
-  keep MaterialX's graphs).
+  texture coordinate stream its geometry has). Float, float3 (normal, point, vector) and float4 readers, and
+  int ones, read the vertex attribute `i_geomprop_VARNAME` where the renderer has bound the geometry's
+  primvar of that name and set the reader's flag uniform to 1 (the manifest's "primvars" lists reader,
+  attribute and flag; a varname that is no GLSL name part gets a hashed one), else their `fallback`, as the
+  seed says and Storm draws (UsdImaging hands a renderer only the primvars a mesh authors, `displayColor`
+  too): on the sphere, which carries no other primvar, always the fallback. String and filename readers
+  keep MaterialX's graphs.
 - UsdPreviewSurface: a nodegraph of ours (usd_seed.mtlx): metallic F0 = F90 = albedo (interpolated
   with the dielectric F0 from ior and F90 = 1), no conductor; opacity is alpha, not refraction;
   opacityThreshold > 0 cuts out (alpha 0 below the threshold, 1 at or above it).
 """
+import hashlib
+import re
+
 from ..files import regular_file_problem
 
 USD_CATEGORIES = ("UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader", "UsdTransform2d")
@@ -202,6 +210,48 @@ def uv_texture(node, em):
             "rgba": texel}
 
 
+# ---------------------------------------------------------------- UsdPrimvarReader
+
+_ATTRIBUTE_PART = re.compile(r"[A-Za-z0-9]+(_[A-Za-z0-9]+)*", re.ASCII)   # what streams.py takes after geomprop_
+MAX_ATTRIBUTE_PART = 40
+
+
+def primvar_attribute(varname):
+    """The vertex attribute carrying primvar `varname`: i_geomprop_VARNAME, as MaterialX's geompropvalue names
+    it; a name that cannot be part of a GLSL identifier (`a:b`, `x__y`, too long) keeps its letters and digits
+    and gains a hash of the whole name."""
+    if _ATTRIBUTE_PART.fullmatch(varname) and len(varname) <= MAX_ATTRIBUTE_PART:
+        return "i_geomprop_" + varname
+    kept = "_".join(re.findall(r"[A-Za-z0-9]+", varname, re.ASCII))[:24] or "primvar"
+    digest = hashlib.sha256(varname.encode("utf-8", "surrogateescape")).hexdigest()[:10]
+    return "i_geomprop_%s_%s" % (kept, digest)
+
+
+def primvar_reader(node, em):
+    """UsdPrimvarReader_float/float3/float4/int: the primvar's vertex attribute where the renderer binds one
+    (flag uniform 1), else the fallback. In the vertex stage (displacement) there is no flag: the fallback."""
+    from ..emit import VertexEmitter
+    from ..graph import Uniform
+    fallback = em.input_expr(node, "fallback")
+    varname = node.static.get("varname") or ""
+    if not varname or isinstance(em, VertexEmitter):
+        return {"out": fallback}
+    out_type = node.outputs["out"]
+    attribute = primvar_attribute(varname)
+    taken = em.streams.get(attribute[len("i_"):])
+    if taken is not None and taken.type != em.glsl_type(out_type):     # the same primvar read as another type
+        attribute = "%s_%s" % (attribute, out_type)
+    value = em.stream(attribute[len("i_"):], out_type)
+    flag = em.fresh(node.id + "_primvar")
+    em.graph.uniforms[flag] = Uniform(name=flag, type="integer", value=0, loc=node.loc)
+    em.primvars.append({"varname": varname, "attribute": attribute, "type": em.glsl_type(out_type),
+                        "uniform": flag})
+    return {"out": "(%s != 0 ? %s : %s)" % (flag, value, fallback)}
+
+
 NODES = {
     "usd_seed_UsdUVTexture": {"handler": uv_texture},
 }
+
+NODEDEFS = {"ND_usd_seed_UsdPrimvarReader_%s" % t: {"handler": primvar_reader}
+            for t in ("float", "vector3", "vector4", "integer")}
