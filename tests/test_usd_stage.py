@@ -915,3 +915,101 @@ def test_sphere_draws_the_readers_fallback(renderer, tmp_path):
     assert centre[2] > 4 * max(centre[0], centre[1]) and centre[2] > 0.5, centre
     grey, _ = _render(renderer, path, "/Looks/Level")             # no fallback authored: the seed's 0
     assert grey[56:72, 56:72, :3].max() < 0.2
+
+
+# ---------------------------------------------------------------- the licensed copies in tests/data/usd
+
+USD_DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "usd")
+STAGE_GOLDENS = os.path.join(USD_DATA, "renders")
+# entry file: the textures it names that the copy leaves out (tests/data/usd/README.md)
+DATA_STAGES = {
+    "TextureTransformTest/TextureTransformTest.usd": (),
+    "RoughnessTest/RoughnessTest.usdz": (),
+    "Teapot/Teapot.usd": ("tea_set_01_diff_2k.jpg", "tea_set_01_arm_2k.jpg"),
+    "TextureCoordinateTest/TextureCoordinateTest.usda": (),
+}
+
+
+@pytest.fixture(scope="module")
+def stage_renderer():
+    from mtlxgen.render import Renderer
+    with Renderer(size=256) as r:
+        yield r
+
+
+@pytest.mark.parametrize("entry", sorted(DATA_STAGES))
+def test_licensed_copies_draw_their_stage_goldens(stage_renderer, entry, update_goldens, tmp_path, monkeypatch):
+    """Each copied asset on its own geometry, from its camera or a framing one, against tests/data/usd/renders
+    (`pytest --update-goldens` rewrites them); golden_images/ holds a sphere per material."""
+    from mtlxgen import golden, stagerender
+    from util import FAILURES
+    monkeypatch.setenv("MTLXGEN_CACHE", str(tmp_path / "cache"))
+    path = os.path.join(USD_DATA, entry)
+    shaders, error = pipeline.generate(path, partial=True)
+    problems = error.lines() if error else []
+    left_out = DATA_STAGES[entry]
+    assert len(problems) == len(left_out) and all(any(f in line and "not found" in line for line in problems)
+                                                  for f in left_out), problems
+    view = stagerender.read_view(path)
+    assert not view.problems, view.problems
+    img = stagerender.render_stage(stage_renderer, view, {s.element: s for s in shaders}, stagerender.fallback_shader())
+    drawn = img[..., 3] > 0
+    assert drawn.mean() > 0.02
+    if entry.startswith("Teapot"):      # its Ceramic material reads the mesh's displayColor: lime green (0.325, 0.825, 0)
+        rgb = img[drawn][:, :3].mean(0)
+        assert rgb[1] > 1.5 * rgb[0] and rgb[0] > 2 * rgb[2], rgb
+    name = os.path.splitext(os.path.basename(entry))[0] + "__stage.png"
+    stored = os.path.join(STAGE_GOLDENS, name)
+    if update_goldens:
+        os.makedirs(STAGE_GOLDENS, exist_ok=True)
+        images.write_image(stored, images.to_srgb8(img))
+        return
+    metrics, diff, _ = golden.measure(img, golden.read_png8(stored), None, golden.Tolerance(), flip=False)
+    passes, why = golden.verdict(metrics, golden.Tolerance())
+    if not passes:
+        os.makedirs(FAILURES, exist_ok=True)
+        new = os.path.join(FAILURES, name.replace(".png", ".new.png"))
+        images.write_image(new, images.to_srgb8(img))
+        raise AssertionError("%s: %s (new render: %s; if intended: pytest --update-goldens)" % (name, why, new))
+
+
+def test_roughness_channels_are_read_from_the_usdz_as_authored(renderer, tmp_path, monkeypatch):
+    """RoughnessTest reads roughness from the r, g and b channels of one texture inside the .usdz, each through
+    the sourceColorSpace its UsdUVTexture names: every textured sphere draws what its constant twin draws once the
+    twin holds that channel's texel read the same way. Where that is not the twin's own value (the file keeps
+    sRGB-encoded numbers, one reader reads them raw) the two differ, as the seed's rules say they must."""
+    import OpenImageIO as oiio
+    monkeypatch.setenv("MTLXGEN_CACHE", str(tmp_path / "cache"))
+    package = os.path.join(USD_DATA, "RoughnessTest", "RoughnessTest.usdz")
+    zipped = Sdf.ZipFile.Open(package)
+    (tga,) = [n for n in zipped.GetFileNames() if n.endswith("roughness.tga")]
+    (tmp_path / "r.tga").write_bytes(bytes(zipped.GetFile(tga)))
+    texel = oiio.ImageBuf(str(tmp_path / "r.tga")).get_pixels(oiio.UINT8)[..., :3].reshape(-1, 3)
+    assert (texel == texel[0]).all()                 # one value per channel
+    stage = Usd.Stage.Open(package)
+    cases = []
+    for tex, twin in (("Tex000", "Const000"), ("Tex033", "Const033"), ("Tex066", "Const066")):
+        surface = UsdShade.Shader.Get(stage, "/Roughness/Materials/%s/Principled_BSDF" % tex)
+        (source,) = surface.GetInput("roughness").GetConnectedSources()[0]
+        reader = UsdShade.Shader(source.source.GetPrim())
+        assert reader.GetInput("file").Get().path.endswith("roughness.tga")
+        value = float(texel[0]["rgb".index(source.sourceName)]) / 255.0
+        if reader.GetInput("sourceColorSpace").Get() == "sRGB":
+            value = value / 12.92 if value <= 0.04045 else ((value + 0.055) / 1.055) ** 2.4
+        own = UsdShade.Shader.Get(stage, "/Roughness/Materials/%s/Principled_BSDF" % twin).GetInput("roughness").Get()
+        cases.append((tex, twin, value, own))
+    assert any(abs(v - own) > 0.1 for _, _, v, own in cases) and any(abs(v - own) < 0.02 for _, _, v, own in cases)
+    over = tmp_path / "twins.usda"              # the package sublayered, the constants overridden
+    lines = ['#usda 1.0', '(subLayers = [@%s@])' % package, 'over "Roughness" {', 'over "Materials" {']
+    for _, twin, value, _ in cases:
+        lines += ['over "%s" {' % twin, 'over "Principled_BSDF" {', "float inputs:roughness = %r" % value, "}", "}"]
+    over.write_text("\n".join(lines + ["}", "}"]) + "\n")
+
+    def draw(path, element):
+        return images.to_srgb8(renderer.render(pipeline.generate(str(path), [element])[0])).astype(int)
+
+    for tex, twin, value, own in cases:
+        textured = draw(package, "Roughness_Materials_" + tex)
+        assert np.abs(textured - draw(over, "Roughness_Materials_" + twin)).max() <= 2, (tex, value)
+        if abs(value - own) > 0.1:
+            assert np.abs(textured - draw(package, "Roughness_Materials_" + twin)).max() > 20, (tex, value, own)
