@@ -197,6 +197,9 @@ def _read_associated(path):
     return np.asarray(pixels, dtype=np.float32).reshape(buf.spec().height, buf.spec().width, -1)
 
 
+_SAMPLER_TYPES = {0x8B5D, 0x8B5E, 0x8B5F, 0x8B60}      # GL_SAMPLER_1D, _2D, _3D, _CUBE
+
+
 class Renderer:
     """One GL context, one sphere, one environment; renders Shader objects (or vertex/fragment pairs)."""
 
@@ -310,6 +313,14 @@ class Renderer:
                 if name in prog:
                     t.use(unit)
                     prog[name].value = unit
+            # a sampler left without a texture (a file that could not be read, without a default) reads a
+            # transparent black texel on a unit of its own, not whatever an earlier draw left on unit 0
+            unbound = [n for n in prog if n not in dict(units) and getattr(prog[n], "gl_type", None) in _SAMPLER_TYPES]
+            if unbound:
+                empty = self.constant_texture([0.0, 0.0, 0.0, 0.0])
+                empty.use(len(units))
+                for name in unbound:
+                    prog[name].value = len(units)
             content = [(buf, fmt, name) for name, (buf, fmt) in self.buffers.items() if name in prog]
             vao = ctx.vertex_array(prog, content, self.index)
             view_proj = perspective(FOV_Y, 1.0, 0.1, 100.0) @ look_at(EYE, (0, 0, 0), (0, 1, 0))

@@ -82,9 +82,11 @@ CASES = {
     "examples_wood_textured": lambda tmp: (os.path.join(EXAMPLES, "StandardSurface", "standard_surface_wood_tiled.mtlx"),
                                            "Tiled_Wood"),
     "alpha_texture": _alpha_texture_doc,
-    "ies_profile": _ies_doc,
 }
-OURS_ONLY = {"ies_profile"}         # MaterialX has no GLSL for measured_edf
+OURS_ONLY = set()
+# Not compared: a sampler the scoreboard's harness cannot fill (measured_edf's .ies profile) reads whatever an
+# earlier draw left on texture unit 0 there (undefined: it failed under pytest-xdist, where the order differs);
+# ours binds a transparent black texel, the same whatever came before (test below).
 
 
 def _both_draw_the_same(harness, scoreboard_harness, who, vertex, fragment, textures):
@@ -110,3 +112,18 @@ def test_our_scoreboard_scene_draws_what_the_scoreboard_harness_draws(case, harn
 @pytest.mark.corpus
 def test_our_scoreboard_scene_binds_and_leaves_unset_what_the_scoreboard_harness_does(harness, scoreboard_harness):
     _both_draw_the_same(harness, scoreboard_harness, "unset uniforms", VERTEX, FRAGMENT, {})
+
+
+def test_unreadable_texture_without_default_reads_the_same_whatever_was_drawn_before(tmp_path, library):
+    path, element = _ies_doc(tmp_path)
+    ours = pipeline.generate(path, [element])[0]
+    files = {t["uniform"]: t["file"] for t in ours.manifest["textures"]}
+    from mtlxgen.render import Renderer
+    with Renderer.scoreboard(TEST_SIZE) as fresh:           # .ies unreadable in the scoreboard scene
+        first, _ = fresh.render_timed(ours.vertex, ours.fragment, None, files)
+        lit = pipeline.generate(write_doc(tmp_path, '<standard_surface name="u" type="surfaceshader" />',
+                                          name="lit.mtlx"))[0]
+        fresh.render(lit)                                   # binds the sky on unit 0
+        again, _ = fresh.render_timed(ours.vertex, ours.fragment, None, files)
+    assert np.array_equal(first, again)
+    assert float(np.abs(first[..., :3]).max()) == 0.0        # the profile's sampler reads black: no light
