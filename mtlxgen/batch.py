@@ -137,14 +137,21 @@ def run_job(job, library_dirs=()):
 
 
 def find_materials(paths):
-    """.mtlx files named by PATHS: files as given, directories searched (sorted, hidden ones skipped),
-    FILE.mtlx:ELEMENT kept as is. Raises MtlxError for a path that does not exist."""
+    """.mtlx documents and USD stages named by PATHS: files as given; directories searched (sorted, hidden ones
+    skipped) for .mtlx files and for the USD stages (.usd, .usda, .usdc, .usdz) among them that hold materials
+    and that no other stage found there composes (usdstage.scene_files: a payload, reference or sublayer is
+    drawn as part of the stage that uses it); FILE:ELEMENT kept as is. Raises MtlxError for a path that does
+    not exist."""
+    from .usdstage import is_usd, scene_files
     files = []
     for p in paths:
         if os.path.isdir(p):
+            found = []
             for base, dirs, names in os.walk(p):
                 dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-                files += [os.path.join(base, n) for n in sorted(names) if n.endswith(".mtlx")]
+                found += [os.path.join(base, n) for n in sorted(names) if n.endswith(".mtlx") or is_usd(n)]
+            stages = set(scene_files([f for f in found if is_usd(f)]))
+            files += [f for f in found if not is_usd(f) or f in stages]
         elif os.path.exists(p):
             files.append(p)
         elif ":" in p and os.path.exists(p.rsplit(":", 1)[0]):

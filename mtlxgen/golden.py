@@ -260,7 +260,7 @@ class Target:
 
 def targets(index, paths=None, library_dirs=()):
     """What to check or update: every golden in the index, or every renderable element in PATHS
-    (files, directories searched for .mtlx, or FILE.mtlx:ELEMENT)."""
+    (files, directories searched for .mtlx documents and USD stages (batch.find_materials), or FILE:ELEMENT)."""
     if not paths:
         return [Target(index.source(e), e["element"], name, e) for name, e in sorted(index.goldens.items())]
     out, seen = [], {}
@@ -297,7 +297,7 @@ def targets(index, paths=None, library_dirs=()):
 def _nothing_to_do(index, paths, verb):
     """Checking (or updating) nothing is a mistake, not a pass: say where we looked."""
     if paths:
-        return MtlxError((Loc(paths[0], 0), "nothing to %s: no .mtlx file with a renderable element in %s" % (verb, ", ".join(paths))))
+        return MtlxError((Loc(paths[0], 0), "nothing to %s: no .mtlx file or USD stage with a renderable element in %s" % (verb, ", ".join(paths))))
     return MtlxError((Loc(index.path, 0), "nothing to %s: %s; run in the project directory, or give --goldens DIR "
                       "or the .mtlx PATHS" % (verb, "the index lists no goldens" if os.path.exists(index.path)
                                               else "no golden index here")))

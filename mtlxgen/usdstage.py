@@ -135,6 +135,48 @@ def load(path, library_dirs=(), options=None):
     return doc
 
 
+def scene_files(paths):
+    """Of USD files found in a directory, those to draw as stages of their own (batch and golden sweeps): the
+    ones no other of them composes (a sublayer, reference or payload is drawn as part of the stage using it,
+    as its default variants select it) that hold a UsdShadeMaterial or reference a .mtlx document. A file USD
+    cannot open is kept: drawing it says why. Without usd-core every file is kept (each then says so)."""
+    paths = list(paths)
+    try:
+        from pxr import Usd
+    except ImportError:
+        return paths
+    used, keep = set(), {}
+    with _quiet_stderr():
+        for p in paths:
+            try:
+                stage = Usd.Stage.Open(os.path.abspath(p), Usd.Stage.LoadAll)
+            except Exception:       # Tf.ErrorException: unparsable
+                stage = None
+            if stage is None:
+                keep[p] = True
+                continue
+            own = os.path.realpath(p)
+            for layer in stage.GetUsedLayers():
+                real = layer.realPath
+                if real and not layer.anonymous and os.path.realpath(real) != own:
+                    used.add(os.path.realpath(real))
+            keep[p] = _has_materials(stage)
+    return [p for p in paths if keep[p] and os.path.realpath(p) not in used]
+
+
+def _has_materials(stage):
+    from pxr import Usd, UsdShade
+    for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
+        if prim.IsA(UsdShade.Material):
+            return True
+        for spec in prim.GetPrimStack():
+            items = list(spec.referenceList.GetAddedOrExplicitItems()) if spec.hasReferences else []
+            items += list(spec.payloadList.GetAddedOrExplicitItems()) if spec.hasPayloads else []
+            if any((item.assetPath or "").lower().endswith(".mtlx") for item in items):
+                return True
+    return False
+
+
 # ---------------------------------------------------------------- opening
 
 @contextmanager

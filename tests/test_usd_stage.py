@@ -1013,3 +1013,48 @@ def test_roughness_channels_are_read_from_the_usdz_as_authored(renderer, tmp_pat
         assert np.abs(textured - draw(over, "Roughness_Materials_" + twin)).max() <= 2, (tex, value)
         if abs(value - own) > 0.1:
             assert np.abs(textured - draw(package, "Roughness_Materials_" + twin)).max() > 20, (tex, value, own)
+
+
+# ---------------------------------------------------------------- directories: batch and golden sweeps
+
+def test_directory_sweeps_find_stages_not_the_layers_they_compose(tmp_path, capsys):
+    """batch and golden find USD stages in directories beside .mtlx documents: a stage's payloads, references and
+    sublayers (the Teapot's) are drawn as part of it, not again on their own, and a layer without materials (its
+    geometry) is no stage to draw."""
+    import shutil
+    from mtlxgen import batch, golden
+    from mtlxgen.batch import RenderSettings
+    from mtlxgen.cli import main
+    root = tmp_path / "scenes"
+    shutil.copytree(os.path.join(USD_DATA, "Teapot"), root / "Teapot")
+    examples = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "usd")
+    for name in ("preview_stage.usda", "usd_seed_rules.mtlx", "leaf_ga.png", "stripes_r.png"):
+        shutil.copy(os.path.join(examples, name), root / name)
+    geometry_only = Usd.Stage.CreateNew(str(root / "ground.usda"))
+    _quad(geometry_only, "/Ground", 0, 0)
+    geometry_only.GetRootLayer().Save()
+    layers = sorted(os.path.relpath(p, root) for p in glob.glob(str(root / "**" / "*.usd*"), recursive=True))
+    assert len(layers) == 7                        # ground, preview_stage, and the Teapot's five layers
+    found = [os.path.relpath(p, root) for p in batch.find_materials([str(root)])]
+    assert found == ["preview_stage.usda", "usd_seed_rules.mtlx", os.path.join("Teapot", "Teapot.usd")], found
+
+    # golden update and check of the directory: the stages' materials among the goldens
+    goldens = tmp_path / "goldens"
+    made = [str(root / "preview_stage.usda"), str(root / "usd_seed_rules.mtlx")]
+    done = golden.update(made, str(goldens), settings=RenderSettings(size=24), workers=1, progress=False)
+    assert [s for _, s, _ in done] == ["created"] * sum(len(batch.list_elements(p)) for p in made), done
+    run = golden.check([str(root)], str(goldens), str(tmp_path / "check"), workers=1, progress=False, flip=False)
+    status = {r["name"]: r["status"] for r in run.results}
+    stage_names = [n for n in status if n.startswith("preview_stage__")]
+    assert len(stage_names) == 4 and all(status[n] == "pass" for n in stage_names), status
+    assert {status[n] for n in status if n.startswith("Teapot__")} == {"missing"}, status   # no golden made for them
+
+    # batch of the directory: every stage element drawn once (the Teapot's missing textures said once, status 1)
+    assert main(["batch", str(root), "-o", str(tmp_path / "b"), "-j", "1", "--size", "16", "--no-progress"]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and all("tea_set_01_" in line and "not found" in line for line in err), err
+    pngs = sorted(n for n in os.listdir(tmp_path / "b") if n.endswith(".png"))
+    assert [n for n in pngs if n.startswith("Teapot__")] == ["Teapot__Teapot_Materials_Ceramic.png",
+                                                             "Teapot__Teapot_Materials_PorcelainFlowers.png"]
+    assert len([n for n in pngs if n.startswith("preview_stage__")]) == 4
+    assert not [n for n in pngs if n.startswith(("Teapot_Materials", "Teapot_Payload", "ground"))], pngs
