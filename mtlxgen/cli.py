@@ -9,7 +9,7 @@ import math
 import os
 import sys
 
-from .diagnostics import Loc, MtlxError
+from .diagnostics import Loc, MtlxError, Warnings
 from .emit import ENVIRONMENT_METHODS
 
 
@@ -17,6 +17,12 @@ def _report(e):
     for line in e.lines():
         print(line, file=sys.stderr)
     return 1
+
+
+def _print_warnings(lines):
+    """`FILE:LINE: warning: ...` lines on stderr, each once (slips MaterialX reads on; --strict makes them errors)."""
+    for line in dict.fromkeys(lines):
+        print(line, file=sys.stderr)
 
 
 # ---------------------------------------------------------------- option values
@@ -156,9 +162,14 @@ def _check_document(path):
 
 def cmd_generate(args):
     from . import pipeline
-    shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
-                                       partial=True, usd_seed_rules=args.usd_seed_rules,
-                                       environment=args.environment, usd_options=_usd_options(args))
+    warnings = Warnings()
+    try:
+        shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
+                                           partial=True, usd_seed_rules=args.usd_seed_rules,
+                                           environment=args.environment, usd_options=_usd_options(args),
+                                           strict=args.strict, warnings=warnings)
+    finally:
+        _print_warnings(warnings.lines())
     for s in shaders:
         paths = s.write(args.output)
         if args.verbose:
@@ -173,9 +184,14 @@ def cmd_render(args):
     if args.geometry == "stage" and _usd_options(args) is None:
         raise MtlxError((Loc(args.file, 0), "--geometry stage draws a USD stage's meshes; this is a MaterialX document"))
     # elements with problems are reported, the others drawn (as generate writes them)
-    shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
-                                       partial=True, usd_seed_rules=args.usd_seed_rules,
-                                       environment=args.environment, usd_options=_usd_options(args))
+    warnings = Warnings()
+    try:
+        shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
+                                           partial=True, usd_seed_rules=args.usd_seed_rules,
+                                           environment=args.environment, usd_options=_usd_options(args),
+                                           strict=args.strict, warnings=warnings)
+    finally:
+        _print_warnings(warnings.lines())
     env = render.load_environment(args.env) if args.env else None
     from .lights import load_light_rig
     lights = load_light_rig(args.lights) if args.lights else ()
@@ -219,8 +235,16 @@ def cmd_info(args):
     if options is not None:
         from .usdstage import print_info
         return print_info(args.file, args.library, args.usd_seed_rules, options)
-    session = pipeline.Session(args.file, None, args.library, args.usd_seed_rules)
-    print("%s (MaterialX %s)" % (args.file, session.doc.version))
+    warnings = Warnings()
+    try:
+        return _info(pipeline.Session(args.file, None, args.library, args.usd_seed_rules, strict=args.strict,
+                                      warnings=warnings))
+    finally:
+        _print_warnings(warnings.lines())
+
+
+def _info(session):
+    print("%s (MaterialX %s)" % (session.path, session.doc.version))
     status = 0
     for name in session.elements:
         try:
@@ -263,9 +287,11 @@ def _print_check(run, verbose=False):
 def cmd_golden_check(args):
     from . import golden, report
     tol = golden.Tolerance(threshold=args.threshold, max_fraction=args.max_fraction, flip=args.flip_limit)
+    warnings = []
     run = golden.check(args.paths, args.goldens or golden.DEFAULT_DIR, args.output, tol, workers=args.workers,
                        progress=False if args.no_progress else None, flip=not args.no_flip,
-                       library_dirs=args.library)
+                       library_dirs=args.library, strict=args.strict, warnings=warnings)
+    _print_warnings(warnings)
     _print_check(run, args.verbose)
     html_path = report.write_report(run.out_dir)
     c = run.counts()
@@ -290,8 +316,11 @@ def cmd_golden_update(args):
     if args.size is not None or args.env is not None:
         settings = RenderSettings(size=args.size or RenderSettings.size,
                                   environment=os.path.abspath(args.env) if args.env else RenderSettings.environment)
+    warnings = []
     done = golden.update(args.paths, args.goldens, settings, workers=args.workers,
-                         progress=False if args.no_progress else None, library_dirs=args.library)
+                         progress=False if args.no_progress else None, library_dirs=args.library,
+                         strict=args.strict, warnings=warnings)
+    _print_warnings(warnings)
     status = 0
     for name, what, lines in done:
         if what != "unchanged" or args.verbose:
@@ -312,8 +341,11 @@ def cmd_report(args):
     out = args.dir
     if not os.path.exists(os.path.join(out, "results.json")):
         # a directory of materials: check it first, into --checks
+        warnings = []
         run = golden.check([out], args.goldens or golden.DEFAULT_DIR, args.checks, workers=args.workers,
-                           progress=False if args.no_progress else None, library_dirs=args.library)
+                           progress=False if args.no_progress else None, library_dirs=args.library,
+                           strict=args.strict, warnings=warnings)
+        _print_warnings(warnings)
         out = run.out_dir
     path = report.write_report(out, args.output)
     print(path)
@@ -328,7 +360,9 @@ def cmd_batch(args):
                                                                          settings)
             for p in batch.find_materials(args.paths)]
     items = batch.render_jobs(jobs, workers=args.workers,
-                              progress=False if args.no_progress else None, library_dirs=args.library)
+                              progress=False if args.no_progress else None, library_dirs=args.library,
+                              strict=args.strict)
+    _print_warnings(line for it in items for line in it.warnings)
     status, printed = 0, set()
     for it in items:
         for line in it.error:           # failures, and problems of elements still drawn (USD: missing textures)
@@ -366,6 +400,10 @@ def build_parser():
         p.add_argument("--render-context", choices=("mtlx", "universal"), default=None,
                        help="USD stages: which surface a material with both outputs:mtlx:surface and "
                             "outputs:surface draws (default: mtlx)")
+        p.add_argument("--strict", action="store_true",
+                       help="make each warning an error: a document MaterialX reads with a slip in it (a value with "
+                            "text after its number, a color3 input fed by a vector3, an input its nodedef lacks) is "
+                            "reported and that element not written (default: read as MaterialX reads it, warned)")
 
     p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
     common(p)
@@ -401,6 +439,10 @@ def build_parser():
         p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
         p.add_argument("--library", action="append", default=[], metavar="DIR", type=_existing_dir,
                        help="extra directory of .mtlx definitions (repeatable)")
+        p.add_argument("--strict", action="store_true",
+                       help="make each warning an error: a document MaterialX reads with a slip in it (a value with "
+                            "text after its number, a color3 input fed by a vector3, an input its nodedef lacks) is "
+                            "reported and that element not written (default: read as MaterialX reads it, warned)")
 
     p = sub.add_parser("golden", help="golden-image regression: check renders against golden_images/, or update them")
     gsub = p.add_subparsers(dest="golden_command", metavar="{check,update}", required=True)

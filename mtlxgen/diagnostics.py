@@ -1,5 +1,9 @@
 """Problems found in input documents: every one names the file and line of the XML that caused it (for a USD
-stage, which has no lines, the layer and the prim path or attribute: FILE:/Prim/Path.inputs:name)."""
+stage, which has no lines, the layer and the prim path or attribute: FILE:/Prim/Path.inputs:name).
+
+Warnings are slips that MaterialX reads on (a value with text after its number, a color3 input fed by a vector3,
+an input its named nodedef lacks): read as MaterialX reads them and printed as `FILE:LINE: warning: ...`;
+strict mode (--strict) turns each into a problem."""
 from dataclasses import dataclass
 
 
@@ -21,10 +25,11 @@ UNKNOWN = Loc("<unknown>", 0)
 class MtlxError(Exception):
     """One or more problems in input. `problems` holds (Loc, message) pairs, printed one a line."""
 
-    def __init__(self, problems):
+    def __init__(self, problems, warnings=()):
         if isinstance(problems, tuple):
             problems = [problems]
         self.problems = list(problems)
+        self.warnings = list(warnings)      # (Loc, message) met before the problems stopped the work
         super().__init__("\n".join(self.lines()))
 
     def lines(self):
@@ -58,3 +63,41 @@ class Problems:
     def raise_if_any(self):
         if self.items:
             raise MtlxError(self.items)
+
+
+class Warnings:
+    """Collects warnings, once per location and message, in the order found. Items are (Loc, message)."""
+
+    def __init__(self):
+        self.items = []
+
+    def add(self, loc, message):
+        item = (loc or UNKNOWN, message)
+        if item not in self.items:
+            self.items.append(item)
+
+    def extend(self, items):
+        for loc, msg in items:
+            self.add(loc, msg)
+
+    def __bool__(self):
+        return bool(self.items)
+
+    def __len__(self):
+        return len(self.items)
+
+    def lines(self):
+        return warning_lines(self.items)
+
+
+def warning_lines(items):
+    """`FILE:LINE: warning: MESSAGE` lines of (Loc, message) warnings."""
+    return [_one_line("%s: warning: %s" % (loc, msg)) for loc, msg in items]
+
+
+STRICT_NOTE = " (a warning; an error with --strict)"
+
+
+def strict_error(items):
+    """The MtlxError --strict makes of warnings: each one a problem at its own location."""
+    return MtlxError([(loc, msg + STRICT_NOTE) for loc, msg in items])

@@ -6,7 +6,7 @@ inherited down the tree and applied here, so later stages never look at ancestor
 from dataclasses import dataclass, field
 
 from . import mxtypes
-from .diagnostics import Loc, Problems
+from .diagnostics import Loc, MtlxError, Problems
 from .xmlreader import read_file
 
 # Element tags that are not nodes.
@@ -41,6 +41,7 @@ class Port:
     enumvalues: str = None
     channels: str = None            # 1.38 swizzle on inputs (upgraded away)
     error: str = None               # a value that does not parse: reported where the port is used
+    warning: str = None             # a value MaterialX reads past a slip in ('0.5.0'): warned where the port is used
 
     @property
     def connected(self):
@@ -132,6 +133,7 @@ class Document:
     unitdefs: dict = field(default_factory=dict)        # unittype -> {unit name: scale}
     looks: dict = field(default_factory=dict)
     order: list = field(default_factory=list)           # top-level element names in document order
+    warnings: list = field(default_factory=list)        # (Loc, message): slips MaterialX reads on, document-wide
 
 
 def version_tuple(v):
@@ -168,16 +170,39 @@ class _Builder:
             if p.type in ("geomname", "geomnamearray") and ctx.get("geomprefix") and text:
                 text = ctx["geomprefix"] + text
             p.text = text
+            slips = []
             try:
-                p.value = mxtypes.parse_value(p.type, text, self.doc.structs)
+                p.value = mxtypes.parse_value(p.type, text, self.doc.structs, slips)
             except mxtypes.ValueError_ as e:
                 p.error = "%s '%s' of type %s: %s" % (kind, name, p.type, e)
+            else:
+                if slips:
+                    p.warning = "%s '%s' of type %s: %s" % (kind, name, p.type, "; ".join(slips))
         if p.type in ("filename", "color3", "color4") and p.colorspace is None:
             p.colorspace = ctx.get("colorspace")      # its active colour space: node's, nodegraph's, document's
         return p
 
-    def ports_of(self, el, ctx, target):
+    def repeated(self, el, what):
+        """Children of `el` named like an earlier sibling (of any kind: an element's children share one namespace).
+        MaterialX's reader keeps the first of each name and drops the others: so do we, with a warning each."""
+        seen, dropped = set(), set()
         for c in el.children:
+            name = c.get("name")
+            if name is None or c.tag == "typedef":          # typedefs: refused when repeated (_struct_types)
+                continue
+            if name in seen:
+                dropped.add(id(c))
+                self.doc.warnings.append((c.loc, "<%s> '%s' repeats the name of an earlier element in %s; MaterialX "
+                                                 "reads the first and drops this one" % (c.tag, name, what)))
+            seen.add(name)
+        return dropped
+
+    def ports_of(self, el, ctx, target, dropped=None):
+        if dropped is None:
+            dropped = self.repeated(el, "%s '%s'" % (el.tag, el.get("name", "")))
+        for c in el.children:
+            if id(c) in dropped:
+                continue
             if c.tag in ("input", "parameter"):
                 p = self.port(c, ctx, "input")
                 target.inputs[p.name] = p
@@ -216,17 +241,16 @@ class _Builder:
         ns = ctx.get("namespace")
         g = NodeGraph(name=_qualify(ns, a.get("name", "")), loc=el.loc, nodedef=_qualify(ns, a.get("nodedef")),
                       version=a.get("version"))
+        dropped = self.repeated(el, "nodegraph '%s'" % g.name)
         for c in el.children:
             cctx = _child_ctx(ctx, c)
-            if c.tag in ("input", "parameter", "output", "token"):
+            if c.tag in ("input", "parameter", "output", "token") or id(c) in dropped:
                 continue
             if c.tag in NON_NODE_TAGS:
                 continue
             n = self.node(c, cctx)
-            if n.name in g.nodes:
-                self.problems.add(c.loc, "duplicate node name '%s' in nodegraph '%s'" % (n.name, g.name))
             g.nodes[n.name] = n
-        self.ports_of(el, ctx, g)
+        self.ports_of(el, ctx, g, dropped)
         return g
 
 
@@ -259,16 +283,15 @@ def build(root, path, source="document"):
     ctx = _child_ctx({}, root)
     _check_names(root, problems)
     # typedefs first: struct values elsewhere depend on them
-    doc.structs = _struct_types(root, problems)
+    doc.structs = _struct_types(root, problems, doc.warnings)
+    dropped = b.repeated(root, "the document")
     for el in root.children:
         cctx = _child_ctx(ctx, el)
         tag, name = el.tag, el.get("name", "")
-        if tag == "typedef":
+        if tag == "typedef" or id(el) in dropped:
             continue
         if tag in ("nodedef",):
             nd = b.nodedef(el, cctx, source)
-            if nd.name in doc.nodedefs:
-                problems.add(el.loc, "duplicate nodedef '%s'" % nd.name)
             doc.nodedefs[nd.name] = nd
         elif tag == "nodegraph":
             g = b.nodegraph(el, cctx)
@@ -282,21 +305,25 @@ def build(root, path, source="document"):
                                                        nodegraph=_qualify(ns, a.get("nodegraph")))
         elif tag == "geompropdef":
             a = el.attrs
+            slips = []
             try:
-                index = mxtypes.parse_value("integer", a.get("index", "0"))
+                index = mxtypes.parse_value("integer", a.get("index", "0"), slips=slips)
             except mxtypes.ValueError_ as e:
                 problems.add(el.loc, "geompropdef '%s': index: %s" % (name, e))
                 index = 0
+            doc.warnings.extend((el.loc, "geompropdef '%s': index: %s" % (name, w)) for w in slips)
             doc.geompropdefs[name] = GeomPropDef(name=name, type=a.get("type", ""), geomprop=a.get("geomprop", ""),
                                                  loc=el.loc, space=a.get("space"), index=index, attrs=dict(a))
         elif tag == "unitdef":
             units = doc.unitdefs.setdefault(el.get("unittype", ""), {})
             for u in el.children:
                 if u.tag == "unit":
+                    slips = []
                     try:
-                        units[u.get("name")] = mxtypes.parse_value("float", u.get("scale", "1"))
+                        units[u.get("name")] = mxtypes.parse_value("float", u.get("scale", "1"), slips=slips)
                     except mxtypes.ValueError_ as e:
                         problems.add(u.loc, "unit '%s': scale: %s" % (u.get("name"), e))
+                    doc.warnings.extend((u.loc, "unit '%s': scale: %s" % (u.get("name"), w)) for w in slips)
         elif tag == "output":
             p = b.port(el, cctx, "output")
             doc.outputs[p.name] = p
@@ -309,12 +336,11 @@ def build(root, path, source="document"):
             continue
         else:
             n = b.node(el, cctx)
-            if n.name in doc.nodes:
-                problems.add(el.loc, "duplicate node name '%s'" % n.name)
             doc.nodes[n.name] = n
         if name:
             doc.order.append(name)
-    problems.raise_if_any()
+    if problems:
+        raise MtlxError(problems.items, doc.warnings)
     _substitute_tokens(doc)
     return doc
 
@@ -342,7 +368,7 @@ _MEMBER_TYPES = ("float", "integer", "boolean", "color3", "color4", "vector2", "
 STRUCT_DEPTH = 32           # structs nested deeper are refused (values of them are read recursively)
 
 
-def _struct_types(root, problems):
+def _struct_types(root, problems, warnings):
     """{name: StructType} of the document's <typedef>s with <member>s (those without members declare
     built-in types, as stdlib's do). Each must be a GLSL struct: named by a GLSL identifier, members of
     value types or other structs of the document, uniquely named, none containing itself."""
@@ -383,10 +409,12 @@ def _struct_types(root, problems):
                 why = "which a struct cannot hold" if mt in mxtypes.BUILTIN else "an unknown type"
                 problems.add(loc, "member '%s' of struct '%s' has type %r, %s" % (mn, name, mt, why))
             elif value is not None:
+                slips = []
                 try:
-                    mxtypes.parse_value(mt, value)
+                    mxtypes.parse_value(mt, value, slips=slips)
                 except mxtypes.ValueError_ as e:
                     problems.add(loc, "member '%s' of struct '%s': %s" % (mn, name, e))
+                warnings.extend((loc, "member '%s' of struct '%s': %s" % (mn, name, w)) for w in slips)
     for name, problem in _struct_nesting(structs).items():
         problems.add(locs[name], problem)
     if problems:
@@ -394,8 +422,10 @@ def _struct_types(root, problems):
     for name, st in structs.items():        # struct-typed member defaults, now that every struct is sound
         for mn, mt, value in st.members:
             if mt in structs and value is not None:
+                slips = []
                 try:
-                    mxtypes.parse_value(mt, value, structs)
+                    mxtypes.parse_value(mt, value, structs, slips)
+                    warnings.extend((locs[(name, mn)], "member '%s' of struct '%s': %s" % (mn, name, w)) for w in slips)
                 except mxtypes.ValueError_ as e:
                     problems.add(locs[(name, mn)], "member '%s' of struct '%s': %s" % (mn, name, e))
     return structs

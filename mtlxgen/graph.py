@@ -9,10 +9,10 @@ uniforms of the material. Cycles, unknown nodes and type mismatches are reported
 """
 import hashlib
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from . import mxtypes
-from .diagnostics import Loc, MtlxError, Problems
+from .diagnostics import Loc, MtlxError, Problems, Warnings
 
 
 @dataclass
@@ -65,6 +65,7 @@ class Graph:
     doc_path: str
     library: object = None
     colorspace: str = None            # the document's working colour space (None: files are not converted)
+    warnings: list = field(default_factory=list)   # (Loc, message): slips MaterialX reads on, read as it reads them
 
 
 _GLSL_RESERVED = set("""attribute const uniform varying layout centroid flat smooth noperspective patch sample
@@ -142,6 +143,15 @@ class GraphBuilder:
         self.expanding = []           # nodedefs whose implementation graphs are being expanded
         self.graph_path = []          # "graph.output" of document nodegraph outputs being resolved
         self.direct_graph = None      # the nodegraph whose output is the element drawn (its inputs: sockets)
+        self.warnings = Warnings()    # slips MaterialX reads on, met while building (each read as MaterialX reads it)
+
+    def warn(self, loc, message):
+        self.warnings.add(loc, message)
+
+    def note_value(self, port):
+        """A port whose own value is read: warn of the slips MaterialX read it past (document.Port.warning)."""
+        if port is not None and port.warning:
+            self.warn(port.loc, port.warning)
 
     # ---------- names ----------
     def new_id(self, stem):
@@ -203,29 +213,40 @@ class GraphBuilder:
 
     # ---------- sources ----------
     def source_of_port(self, port, scope, want_type, owner):
-        """The Source feeding `port` (an input of a node, or an output) in `scope`."""
+        """The Source feeding `port` (an input of a node, or an output) in `scope`; None where nothing is
+        connected, or where the connection leads nowhere (warned: MaterialX then reads the port's own value)."""
         if port.error and not port.connected:
             raise MtlxError((port.loc, port.error))
         if port.interfacename:
             src = scope.interface.get(port.interfacename)
             if src is None:
-                raise MtlxError((port.loc, "input '%s' names interface input '%s', which '%s' does not declare"
-                                 % (port.name, port.interfacename, scope.graph.name if scope.graph else "the document")))
+                return self.dangling(port, "input '%s' names interface input '%s', which '%s' does not declare"
+                                     % (port.name, port.interfacename,
+                                        scope.graph.name if scope.graph else "the document"))
             return src
         if port.nodegraph and not port.nodename:
             g = self.doc.nodegraphs.get(port.nodegraph) or self.lib.nodegraphs.get(port.nodegraph)
             if g is None:
-                raise MtlxError((port.loc, "input '%s' connects to nodegraph '%s', which does not exist"
-                                 % (port.name, port.nodegraph)))
-            out_name = port.output or (next(iter(g.outputs)) if len(g.outputs) == 1 else None)
-            if out_name not in g.outputs:
-                raise MtlxError((port.loc, "nodegraph '%s' has no output '%s'" % (g.name, port.output)))
-            return self.graph_output(g, g.outputs[out_name])
+                return self.dangling(port, "input '%s' connects to nodegraph '%s', which does not exist"
+                                     % (port.name, port.nodegraph))
+            if port.output and port.output not in g.outputs:
+                return self.dangling(port, "nodegraph '%s' has no output '%s'" % (g.name, port.output))
+            if not g.outputs:
+                return self.dangling(port, "nodegraph '%s' has no outputs" % g.name)
+            out_name = port.output or next(iter(g.outputs))
+            if not port.output and len(g.outputs) > 1:
+                self.warn(port.loc, "input '%s' connects to nodegraph '%s', which has %d outputs, without naming one: "
+                                    "reads its first, '%s', as MaterialX does" % (port.name, g.name, len(g.outputs), out_name))
+            src = self.graph_output(g, g.outputs[out_name])
+            if src is None:             # the output holds no connection: MaterialX reads the input's own value
+                return self.dangling(port, "output '%s' of nodegraph '%s' is not connected" % (out_name, g.name))
+            return src
         if port.nodename:
             node = scope.nodes.get(port.nodename)
             if node is None:
-                raise MtlxError((port.loc, "'%s' connects to node '%s', which does not exist%s"
-                                 % (port.name, port.nodename, " in nodegraph '%s'" % scope.graph.name if scope.graph else "")))
+                return self.dangling(port, "'%s' connects to node '%s', which does not exist%s"
+                                     % (port.name, port.nodename,
+                                        " in nodegraph '%s'" % scope.graph.name if scope.graph else ""))
             outs = self.instantiate(node, scope)
             if port.output:
                 name = port.output
@@ -233,14 +254,31 @@ class GraphBuilder:
                     from .nodes.usd import accepts_result_output
                     name = "out" if accepts_result_output(node.category) else name
                 if name not in outs:
-                    raise MtlxError((port.loc, "node '%s' has no output '%s'" % (node.name, port.output)))
+                    first = next(iter(outs))
+                    self.warn(port.loc, "node '%s' has no output '%s': '%s' reads its first output, '%s', as MaterialX "
+                                        "does" % (node.name, port.output, port.name, first))
+                    return outs[first]
                 return outs[name]
             if len(outs) == 1:
                 return next(iter(outs.values()))
             if "out" in outs:
                 return outs["out"]
-            raise MtlxError((port.loc, "'%s' connects to multi-output node '%s' without naming an output"
-                             % (port.name, node.name)))
+            first = next(iter(outs))
+            self.warn(port.loc, "'%s' connects to multi-output node '%s' without naming an output: reads its first "
+                                "output, '%s', as MaterialX does" % (port.name, node.name, first))
+            return outs[first]
+        return None
+
+    def dangling(self, port, problem):
+        """A connection that leads nowhere: MaterialX's generator drops it and reads the port's own value (its
+        validator calls the connection invalid). Warned; returns None, the Source of an unconnected port."""
+        if port.error:
+            raise MtlxError((port.loc, "%s, so its own value is read, and that is malformed: %s" % (problem, port.error)))
+        if port.kind == "output":
+            self.warn(port.loc, "%s: the connection is ignored, as MaterialX ignores it" % problem)
+        else:
+            self.warn(port.loc, "%s: the connection is ignored and the input's own value read, as MaterialX does"
+                      % problem)
         return None
 
     def graph_output(self, g, out_port):
@@ -259,13 +297,13 @@ class GraphBuilder:
             self.graph_path.pop()
 
     def _graph_output(self, g, out_port):
+        """The output's Source; None where it holds no connection (a value alone, which MaterialX's generator
+        does not read through a connection to the output), or one that leads nowhere."""
         scope = self.doc_graph_scope(g)
         src = self.source_of_port(out_port, scope, out_port.type, g.name)
         if src is None:
-            if out_port.value is not None:
-                return Source(out_port.type, value=out_port.value, loc=out_port.loc)
-            raise MtlxError((out_port.loc, "output '%s' of nodegraph '%s' is not connected" % (out_port.name, g.name)))
-        self.check_type(out_port, src, "output '%s' of '%s'" % (out_port.name, g.name))
+            return None
+        src = self.check_type(out_port, src, "output '%s' of '%s'" % (out_port.name, g.name))
         return src
 
     def doc_graph_scope(self, g):
@@ -290,8 +328,11 @@ class GraphBuilder:
                 else:
                     interface[inp.name] = self.public_value(g.name, inp, inp)
         for inp in g.inputs.values():
+            src = None
             if inp.nodename or inp.nodegraph or inp.interfacename:     # interfacename: a document input
-                interface[inp.name] = self.source_of_port(inp, self.doc_scope, inp.type, g.name)
+                src = self.source_of_port(inp, self.doc_scope, inp.type, g.name)
+            if src is not None:
+                interface[inp.name] = self.check_type(inp, src, "input '%s' of nodegraph '%s'" % (inp.name, g.name))
             elif inp.defaultgeomprop and inp.value is None:
                 interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)
             else:
@@ -300,6 +341,7 @@ class GraphBuilder:
 
     def public_value(self, owner, port, declared):
         """An unconnected input at document level: a public uniform initialised with its value."""
+        self.note_value(port if port.value is not None else declared)
         value = port.value if port.value is not None else declared.value
         if value is None:
             value = mxtypes.zero(declared.type, self.lib.structs)
@@ -347,10 +389,18 @@ class GraphBuilder:
             raise MtlxError((port.loc, "node '%s' (%s): %s '%s' is not one of %s"
                              % (node.name, nd.name, decl.name, src.value, ", ".join(allowed))))
 
-    def check_type(self, port, src, what):
-        if src.type != port.type:
-            raise MtlxError((port.loc, "%s has type %s but is connected to a value of type %s"
-                             % (what, port.type, src.type)))
+    def check_type(self, port, src, what, want=None):
+        """`src` as the value of `port` (of type `want`, default the port's own): the same type, or one MaterialX
+        passes through unchanged (color3 and vector3, color4 and vector4: one GLSL type), warned and retyped;
+        anything else is refused."""
+        want = want or port.type
+        if src.type == want:
+            return src
+        if not mxtypes.interchangeable(src.type, want):
+            raise MtlxError((port.loc, "%s has type %s but is connected to a value of type %s" % (what, want, src.type)))
+        self.warn(port.loc, "%s has type %s but is connected to a value of type %s: passed through as %s, as "
+                            "MaterialX does (both are %s in GLSL)" % (what, want, src.type, want, mxtypes.glsl_type(want)))
+        return replace(src, type=want)
 
     # ---------- nodes ----------
     def geom_source(self, geomprop_name, loc, scope):
@@ -419,6 +469,21 @@ class GraphBuilder:
                 self.active.discard((scope.key, n.name))
         return self.memo[key]
 
+    @staticmethod
+    def names_nodedef(node):
+        """Whether the document names the node's nodedef (`nodedef=`, as written in a .mtlx file): MaterialX then
+        takes that nodedef as it is, without matching the node's inputs to it."""
+        return bool(node.nodedef) and "nodedef" in node.attrs
+
+    def check_named_nodedef(self, node, nd):
+        """A nodedef= naming a nodedef of another node or type: MaterialX draws the nodedef named (warned)."""
+        if nd.category.split(":")[-1] != node.category.split(":")[-1]:
+            self.warn(node.loc, "node '%s' is a %s but names nodedef %s, of node %s: drawn as %s, as MaterialX draws it"
+                      % (node.name, node.category, nd.name, nd.category, nd.category))
+        if len(nd.outputs) == 1 and node.type and node.type != nd.type:
+            self.warn(node.loc, "node '%s' has type %s but its nodedef %s outputs %s: read as %s, as MaterialX reads it"
+                      % (node.name, node.type, nd.name, nd.type, nd.type))
+
     def _unbuilt_dependency(self, port, scope):
         """The node of `scope` that `port` reads when it is not built yet (source_of_port's rules:
         an interfacename binding wins over a nodename), else None."""
@@ -430,11 +495,17 @@ class GraphBuilder:
     def _instantiate(self, node, scope):
         """Generator: yields (port, node) for each same-scope node to build first; returns the outputs."""
         nd = self.nodedef_for(node)
+        named = self.names_nodedef(node) and nd is self.lib.nodedefs.get(node.nodedef)
+        if named:
+            self.check_named_nodedef(node, nd)
         for name, port in node.inputs.items():
             if name not in nd.inputs:
                 from .nodes.renamed_inputs import renamed_input_message
-                raise MtlxError((port.loc, renamed_input_message(node.category, name) or
-                                 "node '%s' (%s) has no input '%s'" % (node.name, nd.name, name)))
+                problem = (renamed_input_message(node.category, name) or
+                           "node '%s' (%s) has no input '%s'" % (node.name, nd.name, name))
+                if not named:
+                    raise MtlxError((port.loc, problem))
+                self.warn(port.loc, "%s: ignored, as MaterialX ignores an input the nodedef a node names lacks" % problem)
         stem = scope.prefix + node.name if scope.prefix and not scope.public else node.name
         inputs, static = {}, {}
         for name, decl in nd.inputs.items():
@@ -442,14 +513,20 @@ class GraphBuilder:
             src = None
             if port is not None:
                 if port.type != decl.type:
-                    raise MtlxError((port.loc, "input '%s' of node '%s' has type %s; %s expects %s"
-                                     % (name, node.name, port.type, nd.name, decl.type)))
+                    problem = "input '%s' of node '%s' has type %s; %s expects %s" % (name, node.name, port.type,
+                                                                                     nd.name, decl.type)
+                    if not (named and mxtypes.interchangeable(port.type, decl.type)):
+                        raise MtlxError((port.loc, problem))
+                    self.warn(port.loc, "%s: read as %s, as MaterialX does where a node names its nodedef"
+                              % (problem, decl.type))
                 dep = self._unbuilt_dependency(port, scope)
                 if dep is not None:
                     yield port, dep                 # instantiate() builds it, then resumes here
                 src = self.source_of_port(port, scope, decl.type, node.name)
                 if src is not None:
-                    self.check_type(port, src, "input '%s' of node '%s'" % (name, node.name))
+                    src = self.check_type(port, src, "input '%s' of node '%s'" % (name, node.name))
+                    if src.type != decl.type:       # declared as the interchangeable type (warned above)
+                        src = replace(src, type=decl.type)
             if src is None and decl.defaultgeomprop:
                 # an unconnected input with a default geomprop reads the geometry even where the document
                 # authors a value (as MaterialX's generator does: gltf_pbr_default's normal = (0, 0, 1))
@@ -461,6 +538,7 @@ class GraphBuilder:
                 if scope.public or decl.type == "filename":
                     src = self.public_value(stem, p, decl)
                 else:
+                    self.note_value(p if p.value is not None else decl)
                     value = p.value if p.value is not None else decl.value
                     if value is None:
                         value = mxtypes.zero(decl.type, self.lib.structs)
@@ -502,14 +580,16 @@ class GraphBuilder:
                 continue
             src = self.source_of_port(oport, inner, oport.type, impl_graph.name)
             if src is None:
+                self.note_value(oport)
                 value = oport.value if oport.value is not None else mxtypes.zero(oport.type, self.lib.structs)
                 src = Source(oport.type, value=value, loc=oport.loc)
-            outs[oname] = src
+            outs[oname] = self.check_type(oport, src, "output '%s' of nodegraph '%s' (%s's output)"
+                                          % (oname, impl_graph.name, nd.name), want=nd.outputs[oname].type)
         for oname, decl in nd.outputs.items():
             if oname not in outs:
                 raise MtlxError((impl_graph.loc, "nodegraph '%s' implements %s but has no output '%s'"
                                  % (impl_graph.name, nd.name, oname)))
-        return outs
+        return {oname: outs[oname] for oname in nd.outputs}      # in the nodedef's order (its first output first)
 
     def child_prefix(self, stem):
         return stem + "_"
@@ -558,13 +638,20 @@ class GraphBuilder:
             if g is None or oname not in g.outputs:
                 raise MtlxError((Loc(doc.path, 0), "no element '%s' in the document" % element))
             self.direct_graph = gname
-            return "output", self.graph_output(g, g.outputs[oname])
+            out_port = g.outputs[oname]
+            src = self.graph_output(g, out_port)
+            if src is None:             # drawn on its own: an output holding a value alone draws it
+                if out_port.value is None:
+                    raise MtlxError((out_port.loc, "output '%s' of nodegraph '%s' is not connected" % (oname, gname)))
+                self.note_value(out_port)
+                src = Source(out_port.type, value=out_port.value, loc=out_port.loc)
+            return "output", src
         if element in doc.outputs:
             port = doc.outputs[element]
             src = self.source_of_port(port, self.doc_scope, port.type, element)
             if src is None:
                 raise MtlxError((port.loc, "output '%s' is not connected" % element))
-            self.check_type(port, src, "output '%s'" % element)
+            src = self.check_type(port, src, "output '%s'" % element)
             return "output", src
         node = doc.nodes.get(element)
         if node is None:
@@ -578,22 +665,44 @@ class GraphBuilder:
         return "shader", src
 
 
-def build_graph(doc, library, element, usd_seed_rules=False):
-    return GraphBuilder(doc, library, usd_seed_rules).build(element)
+def build_graph(doc, library, element, usd_seed_rules=False, warnings=None):
+    """The Graph of one element. warnings: a list that receives the element's warnings (also where building
+    stops with an MtlxError); they are the Graph's `warnings` too."""
+    builder = GraphBuilder(doc, library, usd_seed_rules)
+    try:
+        g = builder.build(element)
+        g.warnings = list(builder.warnings.items)
+        return g
+    finally:
+        if warnings is not None:
+            warnings.extend(builder.warnings.items)
 
 
 SHADER_TYPES = ("surfaceshader", "volumeshader")
 
 
+# Outputs connected to nodes of these types are not drawn on their own (MaterialX's findRenderableElements skips
+# them; measured with the materialx wheel, 1.39.5)
+UNRENDERABLE_NODE_TYPES = ("BSDF", "EDF", "VDF", "lightshader")
+
+
 def renderable_elements(doc):
     """Name paths of what MaterialX's findRenderableElements returns for this document: its material
-    nodes; where there are none, the outputs of its nodegraphs and its top-level outputs. Where even
-    those are absent, its shader nodes (MaterialX finds nothing there; we still render them)."""
+    nodes; where there are none, the outputs of its nodegraphs and its top-level outputs that are connected
+    (by nodename) to a node of their own scope, other than a BSDF, EDF, VDF or light (an output holding a value
+    alone, bound to an interface input, reading another nodegraph, or naming a node that is not there is not
+    drawn). Where even those are absent, its shader nodes (MaterialX finds nothing there; we still render them)."""
     materials = [n.name for n in doc.nodes.values() if n.type == "material"]
     if materials:
         return materials
-    out = ["%s/%s" % (g.name, o) for g in doc.nodegraphs.values() for o in g.outputs]
-    out += list(doc.outputs)
+    out = ["%s/%s" % (g.name, o.name) for g in doc.nodegraphs.values() for o in g.outputs.values()
+           if _drawn_output(o, g.nodes)]
+    out += [o.name for o in doc.outputs.values() if _drawn_output(o, doc.nodes)]
     if out:
         return out
     return [n.name for n in doc.nodes.values() if n.type in SHADER_TYPES]
+
+
+def _drawn_output(port, nodes):
+    node = nodes.get(port.nodename) if port.nodename else None
+    return node is not None and node.type not in UNRENDERABLE_NODE_TYPES

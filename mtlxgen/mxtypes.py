@@ -65,6 +65,15 @@ def is_closure(type_name):
     return bool(info and info.closure)
 
 
+# Types MaterialX passes through where one is connected to the other (its validator calls it a mismatch, its
+# generator writes the same GLSL type for both): measured with the materialx wheel, 1.39.5
+INTERCHANGEABLE = ({"color3", "vector3"}, {"color4", "vector4"})
+
+
+def interchangeable(a, b):
+    return a != b and any(a in pair and b in pair for pair in INTERCHANGEABLE)
+
+
 def glsl_type(type_name, structs=None):
     if type_name in BUILTIN:
         return BUILTIN[type_name].glsl
@@ -82,73 +91,113 @@ class ValueError_(ValueError):
     pass
 
 
-# Numbers are read strictly: Python's float()/int() also take "nan", "Infinity", "1_000" and non-ASCII digits,
-# which MaterialX does not read and no GLSL literal can carry.
-_FLOAT_RE = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
-_INT_RE = re.compile(r"[+-]?\d+(?:\.0*)?", re.ASCII)      # "2.0" reads as 2, as in MaterialX
+# Numbers are read as MaterialX 1.39 reads them (C++ stream extraction, measured with the materialx wheel): leading
+# whitespace is skipped, then the longest number the text starts with is taken and whatever follows is ignored
+# ('0.5.0' reads 0.5, '1.842,1.044,0.35' reads 1.842, integer '2.7' reads 2). Ignoring the rest is a slip, reported
+# through `slips` (a warning) or, without it, refused. Text that starts with no number (Python's float() would take
+# 'nan', 'Infinity', '1_000', non-ASCII digits; MaterialX takes none), an exponent without digits ('1e', '1e+'),
+# and numbers beyond a 32-bit float or int are refused: MaterialX reads no value there, and no GLSL literal can
+# carry them.
+_FLOAT_PREFIX = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d*)?", re.ASCII)
+_INT_PREFIX = re.compile(r"[+-]?\d+", re.ASCII)
+_LEADING_SPACE = " \t\n\v\f\r"
 FLOAT_MAX = 3.4028234663852886e38                        # largest finite 32-bit float (GLSL's float)
 INT_MIN, INT_MAX = -2 ** 31, 2 ** 31 - 1                 # GLSL's int
 
 
-def _float(text, whole=None):
-    """A float value (or a component of the list value `whole`, which errors then name)."""
-    t, where = text.strip(), " in %r" % whole if whole is not None else ""
-    if not _FLOAT_RE.fullmatch(t):
-        if t.lstrip("+-").lower() in ("inf", "infinity", "nan"):
+def _rest_is_slip(text, rest, whole, slips, shown):
+    """Text after a number: nothing (fine), or a slip MaterialX reads past (warned, or refused without `slips`)."""
+    if not rest.strip(_LEADING_SPACE):
+        return
+    where = " in %r" % whole if whole is not None else ""
+    if slips is None:
+        raise ValueError_("not a number: %r%s" % (text, where))
+    slips.append("%r%s has more after its number: read as %s, as MaterialX reads it" % (text, where, shown))
+
+
+def _float(text, whole=None, slips=None):
+    """A float value (or a component of the list value `whole`, which messages then name)."""
+    t, where = text.lstrip(_LEADING_SPACE), " in %r" % whole if whole is not None else ""
+    m = _FLOAT_PREFIX.match(t)
+    if not m or m.group()[-1] in "eE+-":          # no number, or an exponent without digits ('1e', '1e+')
+        if t.strip().lstrip("+-").lower() in ("inf", "infinity", "nan"):
             raise ValueError_("non-finite value %r%s (no GLSL literal can carry it)" % (text, where))
         raise ValueError_("not a number: %r%s" % (text, where))
-    x = float(t)
+    x = float(m.group())
     if abs(x) > FLOAT_MAX:
         raise ValueError_("non-finite value %r%s (beyond the range of a 32-bit float)" % (text, where))
+    _rest_is_slip(text, t[m.end():], whole, slips, repr(x))
     return x
 
 
-def _floats(text, count):
-    parts = [p.strip() for p in text.split(",")]
-    if len(parts) == 1 and len(text.split()) == count:
-        parts = text.split()            # written space-separated (seen in the wild; MaterialX reads it too)
+def _list_items(text, separators, slips):
+    """Items of a list value: split at any of `separators`; empty items between commas (',,', a leading or
+    trailing comma) are dropped, as MaterialX drops them, and reported as a slip."""
+    parts = re.split("[%s]" % re.escape(separators), text)
+    items = [p for p in parts if p.strip(_LEADING_SPACE)]
+    commas = text.split(",")
+    if len(commas) > 1 and any(not p.strip(_LEADING_SPACE) for p in commas):
+        if slips is None:
+            raise ValueError_("empty item between commas in %r" % text)
+        slips.append("%r has an empty item between commas: skipped, as MaterialX skips it" % text)
+    return items
+
+
+def _floats(text, count, slips=None):
+    # MaterialX splits vector, colour and matrix values at commas and spaces alike ('0.1 0.2 0.3' is seen in the
+    # wild and reads as '0.1, 0.2, 0.3'); the count must be exact
+    parts = _list_items(text, ", ", slips)
     if len(parts) != count:
         raise ValueError_("expected %d comma-separated numbers, got %d in %r" % (count, len(parts), text))
-    return tuple(_float(p, text) for p in parts)
+    return tuple(_float(p, text, slips) for p in parts)
 
 
-def _int(text, whole=None):
-    t, where = text.strip(), " in %r" % whole if whole is not None else ""
-    if not _INT_RE.fullmatch(t):
+def _int(text, whole=None, slips=None):
+    t, where = text.lstrip(_LEADING_SPACE), " in %r" % whole if whole is not None else ""
+    m = _INT_PREFIX.match(t)
+    if not m:
         raise ValueError_("not an integer: %r%s" % (text, where))
-    n = int(t.split(".")[0])
+    n = int(m.group())
     if not INT_MIN <= n <= INT_MAX:
         raise ValueError_("integer %r%s is outside the 32-bit range of GLSL's int" % (text, where))
+    rest = t[m.end():]
+    if re.fullmatch(r"\.0*[ \t\n\v\f\r]*", rest):        # '2.0' reads as 2: a whole number, no slip
+        return n
+    if slips is None and rest.strip(_LEADING_SPACE):
+        raise ValueError_("not an integer: %r%s" % (text, where))
+    _rest_is_slip(text, rest, whole, slips, str(n))
     return n
 
 
 def _bool(text):
-    t = text.strip()
-    if t in ("true", "false"):      # MaterialX reads no other spelling ("1", "TRUE", "yes")
-        return t == "true"
+    if text in ("true", "false"):   # MaterialX reads no other spelling ("1", "TRUE", "yes", " true")
+        return text == "true"
     raise ValueError_("not a boolean: %r (MaterialX reads only 'true' or 'false')" % text)
 
 
-def parse_value(type_name, text, structs=None):
+def parse_value(type_name, text, structs=None, slips=None):
     """Value string of a MaterialX type -> Python value.
 
     float -> float; integer -> int; boolean -> bool; colorN/vectorN/matrixNN -> tuple of floats
     (matrices row by row, as written); string/filename -> str; arrays -> tuple; structs -> tuple of
     member values. Raises ValueError_ with a message for text that does not fit the type.
+
+    slips: a list to collect the slips MaterialX reads on (text after a number, empty items between commas):
+    with it such a value is read as MaterialX reads it and a message appended; without it, it is refused.
     """
     if text is None:
         return None
     if type_name == "float":
-        return _float(text)
+        return _float(text, None, slips)
     if type_name == "integer":
-        return _int(text)
+        return _int(text, None, slips)
     if type_name == "boolean":
         return _bool(text)
     if type_name in ("string", "filename", "geomname"):
         return text
     info = BUILTIN.get(type_name)
     if info and info.size > 1:
-        return _floats(text, info.size)
+        return _floats(text, info.size, slips)
     if type_name in ARRAY_ELEMENT:
         if not text.strip():
             return ()
@@ -156,11 +205,11 @@ def parse_value(type_name, text, structs=None):
         if element in ("string", "geomname"):
             return tuple(p.strip() for p in text.split(","))
         size = components(element)
-        parts = [p.strip() for p in text.split(",")]
+        parts = [p.strip() for p in _list_items(text, ",", slips)]    # arrays split at commas only
         if len(parts) % size:
             raise ValueError_("%s needs a multiple of %d numbers, got %d" % (type_name, size, len(parts)))
         conv = _int if element == "integer" else _float
-        vals = [conv(p, text) for p in parts]
+        vals = [conv(p, text, slips) for p in parts]
         if size == 1:
             return tuple(vals)
         return tuple(tuple(vals[i:i + size]) for i in range(0, len(vals), size))
@@ -170,7 +219,7 @@ def parse_value(type_name, text, structs=None):
         parts = _struct_parts(text)
         if len(parts) != len(members):
             raise ValueError_("struct %s has %d members, value %r has %d" % (type_name, len(members), text, len(parts)))
-        return tuple(parse_value(mt, p.strip(), structs) for (_, mt, _), p in zip(members, parts))
+        return tuple(parse_value(mt, p.strip(), structs, slips) for (_, mt, _), p in zip(members, parts))
     if info is not None:   # closures and "none" carry no value
         return None
     raise ValueError_("unknown type %r" % type_name)
@@ -253,7 +302,8 @@ def zero(type_name, structs=None):
     if type_name in ARRAY_ELEMENT:
         return ()
     if structs and type_name in structs:
-        return tuple(parse_value(mt, d, structs) if d is not None else zero(mt, structs)
+        # slips in a member default were warned at its typedef
+        return tuple(parse_value(mt, d, structs, []) if d is not None else zero(mt, structs)
                      for _, mt, d in structs[type_name].members)
     return None
 

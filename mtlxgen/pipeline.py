@@ -2,7 +2,7 @@
 import os
 
 from . import document, emit, glslcheck, graph, library
-from .diagnostics import Loc, MtlxError, Problems
+from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
 from .resolve import search_paths
 
 
@@ -21,13 +21,31 @@ def load_document(path, library_dirs=(), usd_options=None):
 
 class Session:
     """A document opened for generation: the libraries with the document's own definitions, the
-    elements to draw, and whether USD's seed rules apply. Build its elements with graph() / shader()."""
+    elements to draw, and whether USD's seed rules apply. Build its elements with graph() / shader().
+
+    Warnings (slips MaterialX reads on, read as it reads them) go to `warnings` (a diagnostics.Warnings, the
+    caller's if given) as they are met: the document's own when it is read, each element's when it is built.
+    strict: a warning is an error instead: a document with warnings of its own raises here, an element with
+    warnings raises where it is built (nothing of it written)."""
 
     def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None, environment="fis",
-                 usd_options=None):
+                 usd_options=None, strict=False, warnings=None):
         self.path = path
         self.environment = environment
-        self.doc = load_document(path, library_dirs, usd_options)
+        self.strict = strict
+        self.warnings = warnings if warnings is not None else Warnings()
+        self.element_warnings = {}          # element name -> [(Loc, message)] met building it
+        try:
+            self.doc = load_document(path, library_dirs, usd_options)
+        except MtlxError as e:          # the document's warnings too, met before its problems
+            if strict and e.warnings:
+                raise MtlxError(strict_error(e.warnings).problems + e.problems) from None
+            self.warnings.extend(e.warnings)
+            raise
+        self.doc_warnings = list(getattr(self.doc, "warnings", ()))
+        if strict and self.doc_warnings:
+            raise strict_error(self.doc_warnings)
+        self.warnings.extend(self.doc_warnings)
         self.library = library.load_library(library_dirs).overlay(self.doc)   # once per document
         self.stage = getattr(self.doc, "usd", None)     # usdstage.StageInfo for a USD stage
         if self.stage is not None and elements:          # elements named by prim path too
@@ -43,7 +61,21 @@ class Session:
     def graph(self, name):
         if self.stage is not None and name in self.stage.materials and self.stage.materials[name].problems:
             raise MtlxError(self.stage.materials[name].problems)      # what the stage reader could not convert
-        return graph.build_graph(self.doc, self.library, name, usd_seed_rules=self.usd_seed_rules)
+        found = []
+        try:
+            g = graph.build_graph(self.doc, self.library, name, usd_seed_rules=self.usd_seed_rules, warnings=found)
+        finally:
+            self.element_warnings[name] = found
+            if not self.strict:             # strict: they are errors, raised below
+                self.warnings.extend(found)
+        if self.strict and found:
+            raise strict_error(found)
+        return g
+
+    def warning_lines(self, name):
+        """`FILE:LINE: warning: ...` lines of the document's warnings and those met building element `name`."""
+        return warning_lines(self.doc_warnings + [w for w in self.element_warnings.get(name, ())
+                                                  if w not in self.doc_warnings])
 
     def shader(self, name):
         shader = glslcheck.check(emit.emit(self.graph(name), environment=self.environment))
@@ -63,7 +95,7 @@ class Session:
 
 
 def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis",
-             usd_options=None):
+             usd_options=None, strict=False, warnings=None):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
 
     usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
@@ -72,10 +104,12 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
 
     usd_options: for USD stages, a usdstage.StageOptions (variants, render context).
 
+    warnings: a diagnostics.Warnings that receives every warning met (Session); strict: warnings are errors.
+
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
-    session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options)
+    session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options, strict, warnings)
     problems, shaders = Problems(), []
     for loc, message in session.notes():
         problems.add(loc, message)

@@ -31,6 +31,7 @@ SEED_DIRS = [os.path.join(ROOT, "tests", "fuzz_seeds"), os.path.join(ROOT, "exam
 CANARY = "MTLXGEN-CANARY-7f3a9c1e-never-in-output"
 TIME_LIMIT_S = 30
 PROBLEM_LINE = re.compile(r"^.+:\d+: \S")
+WARNING_LINE = re.compile(r"^.+:\d+: warning: ")     # a slip MaterialX reads on (status 0 unless --strict)
 CATEGORIES = ["add", "multiply", "image", "texcoord", "constant", "mix", "surface", "standard_surface",
               "surfacematerial", "nodegraph", "output", "input", "nodedef", "implementation", "typedef",
               "member", "dielectric_bsdf", "layer", "ifgreater", "separate3", "convert", "swizzle",
@@ -323,8 +324,8 @@ def run_case(text, case_dir, compile_program, roots):
         failures.append("stderr lines without FILE:LINE: %r" % bad[:3])
     if any("internal error" in line for line in lines):
         failures.append("internal error: %r" % [l for l in lines if "internal error" in l][:1])
-    if rc == 1 and not lines:
-        failures.append("exit 1 without a problem line")
+    if rc == 1 and not [line for line in lines if not WARNING_LINE.match(line)]:
+        failures.append("exit 1 without a problem line (warnings alone never fail a run)")
     outside = sorted({p for p in opened if not _inside(p, roots)})
     if outside:
         failures.append("opened outside the allowed roots: %r" % outside[:5])

@@ -31,7 +31,8 @@ def test_generate_writes_vert_frag_json_per_renderable_element(tmp_path):
     <sin name="s" type="float" />
     <output name="out" type="float" nodename="s" />
   </nodegraph>
-  <output name="top" type="float" nodegraph="NG_a" output="out" />""")
+  <cos name="c" type="float" />
+  <output name="top" type="float" nodename="c" />""")
     out = tmp_path / "out"
     proc = run_cli("generate", path, "-o", str(out))
     assert proc.returncode == 0, proc.stderr

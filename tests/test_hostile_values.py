@@ -9,6 +9,7 @@ import pytest
 from mtlxgen import cli
 
 LINE = re.compile(r"^[^:]+:\d+: ")
+WARNING = re.compile(r"^[^:]+:\d+: warning: ")      # a slip MaterialX reads on: read as it reads it, status 0
 SAFE_STEM = re.compile(r"[A-Za-z0-9_+][A-Za-z0-9_.+-]*")
 
 
@@ -34,7 +35,7 @@ def generate(tmp_path, lines, capsys, renderer, name="doc.mtlx"):
     err = capsys.readouterr().err.splitlines()
     assert status in (0, 1), err
     assert all(LINE.match(e) for e in err), err
-    assert (status == 1) == bool(err), err
+    assert (status == 1) == any(not WARNING.match(e) for e in err), err
     for stem in written_stems(out):
         vertex, fragment = (open(os.path.join(out, stem + ext), encoding="utf-8").read() for ext in (".vert", ".frag"))
         renderer.ctx.program(vertex_shader=vertex, fragment_shader=fragment).release()
@@ -90,14 +91,28 @@ def test_a_non_finite_float_array_item_is_refused(tmp_path, capsys, renderer):
 
 
 @pytest.mark.parametrize("text,why", [
-    ("Infinity", "not an integer"), ("1e3", "not an integer"), ("0x10", "not an integer"),
-    ("1_000", "not an integer"), ("1.5", "not an integer"), ("\u0661\u0662", "not an integer"),
+    ("Infinity", "not an integer"), ("\u0661\u0662", "not an integer"), ("abc", "not an integer"),
+    ("", "not an integer"),
     ("2147483648", "outside the 32-bit range"), ("-2147483649", "outside the 32-bit range"),
     ("99999999999999999999", "outside the 32-bit range")])
 def test_integers_glsl_cannot_hold_are_refused(tmp_path, capsys, renderer, text, why):
     lines = constant("integer", text)
     status, err, _ = generate(tmp_path, lines, capsys, renderer)
     assert_refused(status, err, line_of(lines, "<input"), "input 'value'", why)
+
+
+# MaterialX 1.39.5 reads the whole number an integer value starts with and ignores the rest (C++ stream
+# extraction; measured with the materialx wheel): these were refused before issue 16, now read as it reads them
+@pytest.mark.parametrize("text,value", [("1e3", 1), ("0x10", 0), ("1_000", 1), ("1.5", 1), ("2,3", 2)])
+def test_integers_with_more_after_the_number_read_as_materialx_reads_them(tmp_path, capsys, renderer, text, value):
+    lines = constant("integer", text)
+    status, err, out = generate(tmp_path, lines, capsys, renderer)
+    assert status == 0, err
+    assert len(err) == 1 and WARNING.match(err[0]), err
+    assert err[0].split(": ")[0].endswith(":%d" % line_of(lines, "<input")), err
+    assert "%r has more after its number: read as %d" % (text, value) in err[0], err
+    manifest = json.load(open(os.path.join(out, "o.json")))
+    assert [u["value"] for u in manifest["uniforms"]] == [value]
 
 
 @pytest.mark.parametrize("text,value", [("2147483647", 2147483647), ("-2147483648", -2147483648), ("+7", 7),
@@ -132,8 +147,9 @@ def test_a_non_finite_unit_scale_and_a_bad_geomprop_index_are_refused_where_writ
     status, err, _ = generate(tmp_path, lines, capsys, renderer)
     assert status == 1
     assert len(err) == 2, err
-    assert err[0].split(": ")[0].endswith(":4") and "non-finite value 'inf'" in err[0]
-    assert err[1].split(": ")[0].endswith(":6") and "not an integer: '1e3'" in err[1]
+    # index '1e3': MaterialX reads 1 (a warning since issue 16); scale 'inf': MaterialX reads nothing (an error)
+    assert err[0].split(": ")[0].endswith(":6") and "warning: geompropdef 'uv9': index: '1e3' has more" in err[0]
+    assert err[1].split(": ")[0].endswith(":4") and "non-finite value 'inf'" in err[1]
 
 
 # ---------------------------------------------------------------- implementation templates
@@ -317,9 +333,12 @@ def test_a_document_file_name_with_a_line_break_stays_out_of_the_comments(tmp_pa
 
 
 def test_a_connection_naming_a_line_break_is_reported_on_one_line(tmp_path, capsys, renderer):
-    lines = ['<output name="o" type="float" nodename="no&#10;such" />']
+    # a connection to a node that is not there: MaterialX ignores it (a warning since issue 16)
+    lines = ['<sin name="s" type="float"><input name="in" type="float" nodename="no&#10;such" /></sin>',
+             '<output name="o" type="float" nodename="s" />']
     status, err, _ = generate(tmp_path, lines, capsys, renderer)
-    assert_refused(status, err, 3, "no\\nsuch")
+    assert status == 0 and len(err) == 1 and WARNING.match(err[0]), err
+    assert err[0].split(": ")[0].endswith(":3") and "'no\\nsuch'" in err[0], err
 
 
 # ---------------------------------------------------------------- struct typedefs
