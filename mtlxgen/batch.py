@@ -63,6 +63,7 @@ class Item:
     settings: RenderSettings
     image: np.ndarray = None        # linear RGBA float32, row 0 on top; None when it failed
     error: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)    # `FILE:LINE: warning: ...` lines (slips MaterialX reads on)
     timings: dict = field(default_factory=dict)
     pid: int = 0
     gl_renderer: str = ""
@@ -100,14 +101,15 @@ def _error_lines(e):
     return list(e.lines()) if isinstance(e, MtlxError) else ["%s: %s" % (type(e).__name__, e)]
 
 
-def run_job(job, library_dirs=()):
-    """Render one job in this process. Never raises for bad input: failures become Items with errors."""
+def run_job(job, library_dirs=(), strict=False):
+    """Render one job in this process. Never raises for bad input: failures become Items with errors.
+    strict: warnings are errors (the element is not drawn)."""
     from . import library, pipeline
     items = []
     try:
         library.load_library(library_dirs)           # once per process (memoized): not a material's cost
         t0 = time.perf_counter()
-        session = pipeline.Session(job.path, job.elements, library_dirs)
+        session = pipeline.Session(job.path, job.elements, library_dirs, strict=strict)
         names = session.elements
     except Exception as e:  # the file as a whole
         return [Item(job.path, el, job.settings, error=_error_lines(e), pid=os.getpid())
@@ -132,6 +134,8 @@ def run_job(job, library_dirs=()):
         except Exception as e:
             item.error = _error_lines(e)
             item.timings = {"load_s": load_s, "total_s": time.perf_counter() - t1}
+        if not strict:                  # strict: they are the item's errors
+            item.warnings = session.warning_lines(name)
         items.append(item)
     return items
 
@@ -184,8 +188,9 @@ def default_workers():
         return max(1, os.cpu_count() or 1)
 
 
-def render_jobs(jobs, workers=None, progress=None, library_dirs=()):
-    """Render all jobs; returns [Item] in job order. `progress`: a Progress, True/False, or None (auto)."""
+def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False):
+    """Render all jobs; returns [Item] in job order. `progress`: a Progress, True/False, or None (auto).
+    strict: warnings are errors (run_job)."""
     tasks = _split(jobs, library_dirs)
     total = sum(len(t.elements) or 1 for t in tasks)
     bar = progress if isinstance(progress, Progress) else Progress(total, "render", enabled=progress)
@@ -194,12 +199,12 @@ def render_jobs(jobs, workers=None, progress=None, library_dirs=()):
     results = [None] * len(tasks)
     if workers == 1:
         for i, task in enumerate(tasks):
-            results[i] = run_job(task, library_dirs)
+            results[i] = run_job(task, library_dirs, strict)
             bar.advance(len(results[i]), os.path.basename(task.path))
     else:
         ctx = multiprocessing.get_context("spawn")
         with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-            futures = {pool.submit(run_job, task, tuple(library_dirs)): i for i, task in enumerate(tasks)}
+            futures = {pool.submit(run_job, task, tuple(library_dirs), strict): i for i, task in enumerate(tasks)}
             for fut in concurrent.futures.as_completed(futures):
                 i = futures[fut]
                 try:
