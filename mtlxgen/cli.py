@@ -448,7 +448,8 @@ def build_parser():
     gsub = p.add_subparsers(dest="golden_command", metavar="{check,update}", required=True)
     g = gsub.add_parser("check", help="render and compare with the goldens; exit 1 on any difference")
     g.add_argument("paths", nargs="*", metavar="PATH",
-                   help=".mtlx files, directories, or FILE.mtlx:ELEMENT (default: every golden in the index)")
+                   help=".mtlx files, USD stages, directories (searched for both), or FILE:ELEMENT (default: every "
+                        "golden in the index)")
     g.add_argument("--goldens", default=None, metavar="DIR", type=_existing_dir,
                    help="golden directory (default: golden_images)")
     g.add_argument("-o", "--output", default=os.path.join("out", "golden"), metavar="DIR", type=_output_dir,
@@ -467,7 +468,8 @@ def build_parser():
     g.set_defaults(func=cmd_golden_check)
     g = gsub.add_parser("update", help="render and rewrite goldens (and their index entries)")
     g.add_argument("paths", nargs="*", metavar="PATH",
-                   help=".mtlx files, directories, or FILE.mtlx:ELEMENT (default: every golden in the index)")
+                   help=".mtlx files, USD stages, directories (searched for both), or FILE:ELEMENT (default: every "
+                        "golden in the index)")
     g.add_argument("--goldens", default="golden_images", metavar="DIR", type=_output_dir)
     g.add_argument("--size", type=_int_in(1, MAX_SIZE), default=None, metavar="N",
                    help="image size, 1 to %d (default: what each golden recorded, else 128)" % MAX_SIZE)
@@ -479,18 +481,19 @@ def build_parser():
 
     p = sub.add_parser("report", help="one self-contained HTML page from a golden check's output directory")
     p.add_argument("dir", metavar="DIR", type=_existing_dir,
-                   help="a `golden check` output directory (or a directory of .mtlx to check)")
+                   help="a `golden check` output directory (or a directory of .mtlx documents and USD stages to check)")
     p.add_argument("-o", "--output", metavar="FILE", type=_output_file, help="HTML file (default: DIR/report.html)")
     p.add_argument("--goldens", default=None, metavar="DIR", type=_existing_dir,
                    help="golden directory (default: golden_images)")
     p.add_argument("--checks", default=os.path.join("out", "golden"), metavar="DIR", type=_output_dir,
-                   help="where to check a directory of .mtlx first (default: out/golden)")
+                   help="where to check a directory of materials first (default: out/golden)")
     pool(p)
     p.set_defaults(func=cmd_report)
 
-    p = sub.add_parser("batch", help="render every .mtlx under directories with all cores; print per-material timings")
+    p = sub.add_parser("batch", help="render every .mtlx document and USD stage under directories with all cores; "
+                                          "print per-material timings")
     p.add_argument("paths", nargs="+", metavar="PATH",
-                   help="directories (searched for .mtlx), .mtlx files, or FILE.mtlx:ELEMENT")
+                   help="directories (searched for .mtlx documents and USD stages), files, or FILE:ELEMENT")
     p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
     p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=128, metavar="N",
                    help="image size, 1 to %d (default: 128)" % MAX_SIZE)
