@@ -572,24 +572,32 @@ class GraphBuilder:
         return {oname: Source(t, node=ident, output=oname, loc=node.loc) for oname, t in g.outputs.items()}
 
     def _expand(self, node, nd, impl_graph, inputs, stem, scope):
-        """Instantiate a nodegraph implementation in place of `node`; returns its output sources."""
+        """Instantiate a nodegraph implementation in place of `node`; returns its output sources, in the
+        nodedef's order. Outputs pair by name, as the spec says; a graph whose output names are not the
+        nodedef's but as many pairs by position, as MaterialX pairs them (warned)."""
         inner = _Scope(impl_graph.nodes, self.child_prefix(stem), inputs, False, impl_graph, scope, node.loc)
+        pairs = [(oname, impl_graph.outputs[oname]) for oname in nd.outputs if oname in impl_graph.outputs]
+        if len(pairs) < len(nd.outputs):
+            missing = next(o for o in nd.outputs if o not in impl_graph.outputs)
+            if len(impl_graph.outputs) != len(nd.outputs):
+                raise MtlxError((impl_graph.loc, "nodegraph '%s' implements %s but has no output '%s'"
+                                 % (impl_graph.name, nd.name, missing)))
+            pairs = list(zip(nd.outputs, impl_graph.outputs.values()))
+            self.warn(impl_graph.loc, "nodegraph '%s' implements %s but names its outputs %s where %s declares %s: "
+                                      "paired by position, as MaterialX pairs them"
+                      % (impl_graph.name, nd.name, ", ".join("'%s'" % o for o in impl_graph.outputs), nd.name,
+                         ", ".join("'%s'" % o for o in nd.outputs)))
         outs = {}
-        for oname, oport in impl_graph.outputs.items():
-            if oname not in nd.outputs:
-                continue
+        for oname, oport in pairs:
             src = self.source_of_port(oport, inner, oport.type, impl_graph.name)
             if src is None:
                 self.note_value(oport)
                 value = oport.value if oport.value is not None else mxtypes.zero(oport.type, self.lib.structs)
                 src = Source(oport.type, value=value, loc=oport.loc)
-            outs[oname] = self.check_type(oport, src, "output '%s' of nodegraph '%s' (%s's output)"
-                                          % (oname, impl_graph.name, nd.name), want=nd.outputs[oname].type)
-        for oname, decl in nd.outputs.items():
-            if oname not in outs:
-                raise MtlxError((impl_graph.loc, "nodegraph '%s' implements %s but has no output '%s'"
-                                 % (impl_graph.name, nd.name, oname)))
-        return {oname: outs[oname] for oname in nd.outputs}      # in the nodedef's order (its first output first)
+            outs[oname] = self.check_type(oport, src, "output '%s' of nodegraph '%s' (%s's output '%s')"
+                                          % (oport.name, impl_graph.name, nd.name, oname),
+                                          want=nd.outputs[oname].type)
+        return outs
 
     def child_prefix(self, stem):
         return stem + "_"
