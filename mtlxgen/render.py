@@ -85,6 +85,29 @@ def look_at(eye, target, up):
     return m
 
 
+@dataclass(frozen=True)
+class Camera:
+    """A perspective camera looking from `eye` at `target`; `render`'s is the default (EYE, the origin, FOV_Y)."""
+    eye: tuple = EYE
+    target: tuple = (0.0, 0.0, 0.0)
+    up: tuple = (0.0, 1.0, 0.0)
+    fov_y: float = FOV_Y            # vertical field of view, degrees
+    near: float = 0.1
+    far: float = 100.0
+
+    def view(self):
+        return look_at(self.eye, self.target, self.up)
+
+    def projection(self, aspect=1.0):
+        return perspective(self.fov_y, aspect, self.near, self.far)
+
+    def view_projection(self, aspect=1.0):
+        return self.projection(aspect) @ self.view()
+
+
+DEFAULT_CAMERA = Camera()
+
+
 def builtin_sky(width=512, height=256):
     """Deterministic HDR lat-long sky (row 0 = top): horizon-to-zenith blue, warm ground, a sun disc."""
     v = (np.arange(height) + 0.5) / height
@@ -200,34 +223,74 @@ def _read_associated(path):
 _SAMPLER_TYPES = {0x8B5D, 0x8B5E, 0x8B5F, 0x8B60}      # GL_SAMPLER_1D, _2D, _3D, _CUBE
 
 
+class Prepared:
+    """A linked shader ready to draw (Renderer.prepare): its program, the geometry's vertex array, and the
+    samplers' files and default colours. Textures are looked up in the renderer's cache at each draw, so a
+    file dropped from it (Renderer.forget_texture) is read again by the next draw. Release when done."""
+
+    def __init__(self, prog, vao, samplers, manifest):
+        self.prog = prog
+        self.vao = vao
+        self.samplers = samplers        # [(uniform, file or None, default colour or None)], sorted by uniform
+        self.manifest = manifest or {}
+
+    def release(self):
+        if self.vao is not None:
+            self.vao.release()
+        self.prog.release()
+        self.vao = None
+
+
 class Renderer:
-    """One GL context, one sphere, one environment; renders Shader objects (or vertex/fragment pairs)."""
+    """One GL context, one mesh (the sphere unless told), one environment; renders Shader objects (or
+    vertex/fragment pairs). render() draws into its own size x size float framebuffer from `render`'s camera;
+    prepare() + draw() draw into any framebuffer (a window's) from any Camera: the same binding code."""
 
     @classmethod
     def scoreboard(cls, size=SIZE):
         """A Renderer that draws what the scoreboard's harness draws (SCOREBOARD_SCENE)."""
         return cls(size=size, scene=SCOREBOARD_SCENE)
 
-    def __init__(self, size=SIZE, environment=None, env_samples=ENV_SAMPLES, lights=(), scene=Scene()):
+    def __init__(self, size=SIZE, environment=None, env_samples=ENV_SAMPLES, lights=(), scene=Scene(), ctx=None,
+                 geometry=None):
+        """ctx: a moderngl context to draw with (a window's), left open by close(); None: a headless one of
+        its own. geometry: (attributes, index) as sphere() returns them; None: the sphere."""
         import moderngl
         self.mgl = moderngl
-        self.ctx = create_context()
+        self._owns_ctx = ctx is None
+        self.ctx = create_context() if ctx is None else ctx
         self.size = size
         self.env_samples = env_samples
         self.scene = scene
         self.lights = list(lights)      # LightData records (lights.load_light_rig) bound to u_lightData[]
         self.fbo = self.ctx.framebuffer(color_attachments=[self.ctx.texture((size, size), 4, dtype="f4")],
                                         depth_attachment=self.ctx.depth_renderbuffer((size, size)))
-        attrs, index = sphere()
-        self.buffers = {k: (self.ctx.buffer(v.tobytes()), "%df" % v.shape[1]) for k, v in attrs.items()}
-        self.index = self.ctx.buffer(index.tobytes())
-        env = scene.sky() if environment is None else np.asarray(environment, dtype=np.float32)
+        self.buffers, self.index = {}, None
+        self.set_geometry(*(geometry or sphere()))
+        self._image_cache = {}
+        self.set_environment(environment)
+
+    def set_geometry(self, attrs, index):
+        """Draw this mesh from now on: attributes {i_position: (n, 3) float32, ...} and a flat int32 index."""
+        old = list(self.buffers.values()), self.index
+        self.buffers = {k: (self.ctx.buffer(np.ascontiguousarray(v, dtype="f4").tobytes()), "%df" % v.shape[1])
+                        for k, v in attrs.items()}
+        self.index = self.ctx.buffer(np.ascontiguousarray(index, dtype="i4").tobytes())
+        for buf, _ in old[0]:
+            buf.release()
+        if old[1] is not None:
+            old[1].release()
+
+    def set_environment(self, environment=None):
+        """Light with this lat-long radiance map (None: the scene's sky) and its irradiance."""
+        for t in {id(t): t for t in (getattr(self, "env", None), getattr(self, "irradiance", None)) if t}.values():
+            t.release()
+        env = self.scene.sky() if environment is None else np.asarray(environment, dtype=np.float32)
         # lat-long maps go up top row first: v = 0 is the top of the image (interface.md)
         self.env = self._float_texture(env, mipmaps=True, top_first=True)
         self.env_mips = int(np.floor(np.log2(max(env.shape[:2])))) + 1
         self.irradiance = (self._float_texture(irradiance_map(env), mipmaps=False, top_first=True)
-                           if scene.sh_irradiance else self.env)
-        self._image_cache = {}
+                           if self.scene.sh_irradiance else self.env)
 
     def __enter__(self):
         return self
@@ -237,6 +300,15 @@ class Renderer:
 
     def close(self):
         if self.ctx is not None:
+            if not self._owns_ctx:          # a window's context: release what was made in it, leave it open
+                for t in ([self.fbo, self.fbo.depth_attachment, self.index, self.env] + self.fbo.color_attachments
+                          + [b for b, _ in self.buffers.values()] + [t for t in self._image_cache.values() if t]):
+                    t.release()
+                if self.irradiance is not self.env:
+                    self.irradiance.release()
+                self._image_cache = {}
+                self.ctx = None
+                return
             loader = (self.ctx.extra or {}).get("osmesa") if isinstance(self.ctx.extra, dict) else None
             self.ctx.release()
             if loader is not None:
@@ -272,6 +344,12 @@ class Renderer:
                 self._image_cache[path] = None
         return self._image_cache[path]
 
+    def forget_texture(self, path):
+        """Drop a file's texture (it changed on disk): the next draw that binds it reads it again."""
+        t = self._image_cache.pop(path, None)
+        if t is not None:
+            t.release()
+
     def constant_texture(self, value):
         """A 1x1 texture of an image node's `default` (what a viewer binds when the file cannot be read)."""
         v = [float(x) for x in (value if isinstance(value, (list, tuple)) else [value])]
@@ -291,66 +369,100 @@ class Renderer:
         return img
 
     def render_timed(self, vertex, fragment, manifest=None, textures=None):
-        ctx = self.ctx
-        ctx.__enter__()       # make this renderer's context current: another Renderer may have been used since
+        if self._owns_ctx:
+            self.ctx.__enter__()    # make this renderer's context current: another Renderer may have been used since
         t0 = time.perf_counter()
-        prog = ctx.program(vertex_shader=vertex, fragment_shader=fragment)
+        prepared = self.prepare(vertex, fragment, manifest, textures, vertex_array=False)
         t1 = time.perf_counter()
         try:
-            bound, defaults = {}, {}
-            for tex in (manifest or {}).get("textures", []):
-                bound[tex["uniform"]] = tex.get("file")
-                defaults[tex["uniform"]] = tex.get("default")
-            bound.update(textures or {})
-            units = [("u_envRadiance", self.env), ("u_envIrradiance", self.irradiance)]
-            for name, path in sorted(bound.items()):
-                t = self.image_texture(path) if path else None
-                if t is None and defaults.get(name) is not None:     # unreadable file: its default colour
-                    t = self.constant_texture(defaults[name])
-                if t is not None:
-                    units.append((name, t))
-            for unit, (name, t) in enumerate(units):
-                if name in prog:
-                    t.use(unit)
-                    prog[name].value = unit
-            # a sampler left without a texture (a file that could not be read, without a default) reads a
-            # transparent black texel on a unit of its own, not whatever an earlier draw left on unit 0
-            unbound = [n for n in prog if n not in dict(units) and getattr(prog[n], "gl_type", None) in _SAMPLER_TYPES]
-            if unbound:
-                empty = self.constant_texture([0.0, 0.0, 0.0, 0.0])
-                empty.use(len(units))
-                for name in unbound:
-                    prog[name].value = len(units)
-            content = [(buf, fmt, name) for name, (buf, fmt) in self.buffers.items() if name in prog]
-            vao = ctx.vertex_array(prog, content, self.index)
-            view_proj = perspective(FOV_Y, 1.0, 0.1, 100.0) @ look_at(EYE, (0, 0, 0), (0, 1, 0))
-            world = np.eye(4)
-            mats = {"u_worldMatrix": world, "u_viewProjectionMatrix": view_proj,
-                    "u_worldInverseTransposeMatrix": np.linalg.inv(world).T}
-            if self.scene.world_inverse:
-                mats["u_worldInverseMatrix"] = np.linalg.inv(world)
-            if self.scene.env_matrix is not None:
-                mats["u_envMatrix"] = np.array(self.scene.env_matrix)
-            for name, m in mats.items():
-                if name in prog:
-                    prog[name].write(np.ascontiguousarray(m.T, dtype="f4").tobytes())
-            scalars = {"u_viewPosition": EYE, "u_envRadianceMips": self.env_mips,
-                       "u_envRadianceSamples": self.env_samples, "u_envLightIntensity": 1.0,
-                       "u_numActiveLightSources": 0}
-            for name, value in scalars.items():
-                if name in prog:
-                    prog[name].value = value
-            if self.lights:
-                from .lights import bind_lights
-                bind_lights(prog, self.lights)
-            self.fbo.use()
-            ctx.enable(self.mgl.DEPTH_TEST)
-            ctx.clear(0.0, 0.0, 0.0, 0.0)
-            vao.render()
+            self.draw(prepared)
             raw = self.fbo.read(components=4, dtype="f4")
             t2 = time.perf_counter()
-            vao.release()
         finally:
-            prog.release()
+            prepared.release()
         img = np.frombuffer(raw, dtype="f4").reshape(self.size, self.size, 4)[::-1].copy()
         return img, {"link_s": t1 - t0, "draw_s": t2 - t1}
+
+    def prepare(self, vertex, fragment, manifest=None, textures=None, vertex_array=True):
+        """Link a shader for drawing (Prepared). textures: {sampler uniform: file} over the manifest's.
+        vertex_array=False leaves the vertex array to the first draw (render_timed times linking alone)."""
+        prog = self.ctx.program(vertex_shader=vertex, fragment_shader=fragment)
+        bound, defaults = {}, {}
+        for tex in (manifest or {}).get("textures", []):
+            bound[tex["uniform"]] = tex.get("file")
+            defaults[tex["uniform"]] = tex.get("default")
+        bound.update(textures or {})
+        samplers = [(name, path, defaults.get(name)) for name, path in sorted(bound.items())]
+        prepared = Prepared(prog, None, samplers, manifest)
+        if vertex_array:
+            prepared.vao = self._vertex_array(prog)
+        return prepared
+
+    def _vertex_array(self, prog):
+        content = [(buf, fmt, name) for name, (buf, fmt) in self.buffers.items() if name in prog]
+        return self.ctx.vertex_array(prog, content, self.index)
+
+    def bind(self, prepared, camera=None, aspect=1.0, world=None, env_samples=None, sample_frame=(0, 1),
+             lights=None):
+        """Set everything a shader reads besides its own inputs: textures on units, the matrices of `camera`
+        (render's when None) at this aspect, the environment, its sample count (the renderer's when None) and
+        progressive frame (frame k of K: u_envSampleFrame, u_envSampleFrames; (0, 1) is the plain estimate),
+        and the lights (the renderer's when None; () for none)."""
+        prog = prepared.prog
+        camera = camera or DEFAULT_CAMERA
+        units = [("u_envRadiance", self.env), ("u_envIrradiance", self.irradiance)]
+        for name, path, default in prepared.samplers:
+            t = self.image_texture(path) if path else None
+            if t is None and default is not None:     # unreadable file: its default colour
+                t = self.constant_texture(default)
+            if t is not None:
+                units.append((name, t))
+        for unit, (name, t) in enumerate(units):
+            if name in prog:
+                t.use(unit)
+                prog[name].value = unit
+        # a sampler left without a texture (a file that could not be read, without a default) reads a
+        # transparent black texel on a unit of its own, not whatever an earlier draw left on unit 0
+        unbound = [n for n in prog if n not in dict(units) and getattr(prog[n], "gl_type", None) in _SAMPLER_TYPES]
+        if unbound:
+            empty = self.constant_texture([0.0, 0.0, 0.0, 0.0])
+            empty.use(len(units))
+            for name in unbound:
+                prog[name].value = len(units)
+        view_proj = camera.view_projection(aspect)
+        world = np.eye(4) if world is None else np.asarray(world, dtype=float)
+        mats = {"u_worldMatrix": world, "u_viewProjectionMatrix": view_proj,
+                "u_worldInverseTransposeMatrix": np.linalg.inv(world).T}
+        if self.scene.world_inverse:
+            mats["u_worldInverseMatrix"] = np.linalg.inv(world)
+        if self.scene.env_matrix is not None:
+            mats["u_envMatrix"] = np.array(self.scene.env_matrix)
+        for name, m in mats.items():
+            if name in prog:
+                prog[name].write(np.ascontiguousarray(m.T, dtype="f4").tobytes())
+        scalars = {"u_viewPosition": tuple(float(x) for x in camera.eye), "u_envRadianceMips": self.env_mips,
+                   "u_envRadianceSamples": self.env_samples if env_samples is None else env_samples,
+                   "u_envLightIntensity": 1.0, "u_numActiveLightSources": 0,
+                   "u_envSampleFrame": int(sample_frame[0]), "u_envSampleFrames": int(sample_frame[1])}
+        for name, value in scalars.items():
+            if name in prog:
+                prog[name].value = value
+        lights = self.lights if lights is None else lights
+        if lights:
+            from .lights import bind_lights
+            bind_lights(prog, lights)
+
+    def draw(self, prepared, target=None, camera=None, clear=True, **binding):
+        """Draw a Prepared shader into `target` (a framebuffer; this renderer's own when None) from `camera`,
+        at the target's aspect; `binding` as bind() takes it. clear: clear colour and depth first."""
+        ctx = self.ctx
+        target = self.fbo if target is None else target
+        if prepared.vao is None:
+            prepared.vao = self._vertex_array(prepared.prog)
+        width, height = target.size
+        self.bind(prepared, camera, width / float(height), **binding)
+        target.use()
+        ctx.enable(self.mgl.DEPTH_TEST)
+        if clear:
+            ctx.clear(0.0, 0.0, 0.0, 0.0)
+        prepared.vao.render()

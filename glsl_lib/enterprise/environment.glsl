@@ -31,14 +31,14 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
     float wsum = 0.0;
     for (int i = 0; i < n; ++i)
     {
-        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_hammersley(i, n));
+        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
         vec3 Lt = reflect(-Vt, H);
         if (Lt.z <= 0.0)
             continue;
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
         vec3 L = frame * Lt;
         float w = mg_ggx_G2(Lt, Vt, alpha) / G1V;
-        sum += mg_env_radiance(L, mg_epbr_env_lod(L, pdf, n)) * w;
+        sum += mg_env_radiance(L, mg_epbr_env_lod(L, pdf, mg_env_sample_total(n))) * w;
         wsum += w;
     }
     if (wsum <= 0.0)

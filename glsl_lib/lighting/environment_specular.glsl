@@ -63,7 +63,7 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
     vec3 sum = vec3(0.0);
     for (int i = 0; i < n; ++i)
     {
-        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_hammersley(i, n));
+        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
         vec3 Lt = reflect(-Vt, H);
         if (Lt.z <= 0.0)
             continue;
@@ -72,7 +72,7 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
         vec3 L = frame * (retro ? mg_retro(Lt) : Lt);
         vec3 F = mg_fresnel_eval(fr, VdotH);
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, n)) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V);
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V);
     }
     return sum / float(n);
 #endif

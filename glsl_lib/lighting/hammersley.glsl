@@ -4,3 +4,38 @@ vec2 mg_hammersley(int i, int n)
 {
     return vec2((float(i) + 0.5) / float(n), float(bitfieldReverse(uint(i))) * 2.3283064365386963e-10);
 }
+
+// Progressive refinement (a viewer accumulating frames while its camera is still): frame u_envSampleFrame of
+// u_envSampleFrames draws the points k n .. k n + n - 1 of the first two dimensions of Sobol's sequence
+// (Sobol 1967), a (0, 2)-sequence in base 2: for n a power of two each frame's block is a (0, m, 2)-net on its
+// own, and the K frames' blocks together are the first n K points, so the mean of the K images is an estimate
+// with n K samples. With one frame (the defaults) the points are the Hammersley set, as before.
+uniform int u_envSampleFrame = 0;
+uniform int u_envSampleFrames = 1;
+
+// Sobol's second dimension: bit j of t contributes the j-th row of Pascal's triangle mod 2, read from the top bit.
+uint mg_sobol2(uint t)
+{
+    uint v = 0x80000000u;
+    uint r = 0u;
+    for (; t != 0u; t >>= 1u, v ^= v >> 1u)
+        if ((t & 1u) != 0u)
+            r ^= v;
+    return r;
+}
+
+vec2 mg_env_sample_point(int i, int n)
+{
+    int frames = max(u_envSampleFrames, 1);
+    if (frames == 1)
+        return mg_hammersley(i, n);
+    uint t = uint(clamp(u_envSampleFrame, 0, frames - 1) * n + i);
+    float x = float(bitfieldReverse(t)) * 2.3283064365386963e-10 + 0.5 / float(n * frames);
+    return vec2(x, float(mg_sobol2(t)) * 2.3283064365386963e-10);
+}
+
+// The number of samples the frames together take: what a sample's filtered lookup is sized for.
+int mg_env_sample_total(int n)
+{
+    return n * max(u_envSampleFrames, 1);
+}

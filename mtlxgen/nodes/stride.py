@@ -130,7 +130,7 @@ def stride_material(node, em):
     em.line("vec3 mg_specular = vec3(0.0);")
     em.line("for (int mg_s = 0; mg_s < mg_n; ++mg_s)")
     em.open_block("indirect")
-    em.line("vec2 mg_xi = mg_hammersley(mg_s, mg_n);")
+    em.line("vec2 mg_xi = mg_env_sample_point(mg_s, mg_n);")
     em.line("vec3 mg_H = mg_stride_half_vector(mg_N, mg_stride_sample_%s(mg_alpha, mg_xi.x), MG_TWO_PI * mg_xi.y);"
             % ndf)
     em.line("mg_L = reflect(-mg_V, mg_H);")
@@ -139,7 +139,7 @@ def stride_material(node, em):
     _specular_terms(em, fresnel, vis, ndf)
     em.line("// density of mg_L: D NH / (4 LH); the estimate F V D/4 NL / pdf = F V NL LH / NH")
     em.line("float mg_pdf = mg_D * mg_NH / (4.0 * max(mg_LH, 1.0e-4));")
-    em.line("mg_specular += mg_env_radiance(mg_L, mg_stride_env_lod(mg_L, mg_pdf, mg_n)) * mg_F"
+    em.line("mg_specular += mg_env_radiance(mg_L, mg_stride_env_lod(mg_L, mg_pdf, mg_env_sample_total(mg_n))) * mg_F"
             " * (mg_Vis * mg_NL * mg_LH / max(mg_NH, 1.0e-4));")
     em.close_block()
     em.line("%s.color += mg_specular / float(mg_n);" % out)
