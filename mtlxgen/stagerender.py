@@ -25,6 +25,7 @@ import numpy as np
 from .diagnostics import Loc, MtlxError
 
 MAX_CORNERS = 2 * 10 ** 7           # face corners of all meshes together (memory: ~1 GB of attributes)
+MAX_VERTEX_PRIMVARS = 8             # primvars of one mesh bound as vertex attributes (GL has 16 attributes at least)
 FRAMING_FOV = 45.0
 _Z_UP = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], dtype=np.float64)   # Z up -> Y up
 
@@ -245,6 +246,10 @@ def _vertex_primvars(prim, info, elements, time, idx, face_of_corner, corners, p
         if primvar is None or not primvar.HasAuthoredValue():
             continue
         loc = Loc(info.path, where=str(primvar.GetAttr().GetPath()))
+        if len(out) == MAX_VERTEX_PRIMVARS:
+            problems.append((loc, "primvar not bound (its readers draw their fallback): the mesh's materials read "
+                                  "more than %d primvars as vertex attributes" % MAX_VERTEX_PRIMVARS))
+            continue
         interpolation = primvar.GetInterpolation()
         try:
             values = primvar.ComputeFlattened(time)
@@ -256,8 +261,8 @@ def _vertex_primvars(prim, info, elements, time, idx, face_of_corner, corners, p
                 raise _Skip("its values (%s) are not numbers" % primvar.GetTypeName()) from None
             if values.ndim == 1:
                 values = values[:, None]
-            if values.ndim != 2 or not np.isfinite(values).all():
-                raise _Skip("its values are not finite numbers")
+            if values.ndim != 2 or not np.isfinite(values).all() or (values.size and np.abs(values).max() > 3e38):
+                raise _Skip("its values are not finite 32-bit numbers")
             if idx is None:
                 if interpolation != UsdGeom.Tokens.constant:
                     raise _Skip("%s values on an implicit %s (drawn tessellated): only constant ones are read"
@@ -267,6 +272,8 @@ def _vertex_primvars(prim, info, elements, time, idx, face_of_corner, corners, p
                 out[name] = np.repeat(values[:1], corners, axis=0)
             else:
                 out[name] = _expand(values, interpolation, idx, face_of_corner, "it")
+            if not str(primvar.GetTypeName()).startswith(("int", "uint", "uchar", "bool")):
+                out[name] = out[name].astype(np.float32)        # what the attribute holds (ints stay exact)
         except _Skip as e:
             problems.append((loc, "primvar not bound (its readers draw their fallback): %s" % e))
     return out

@@ -1177,3 +1177,44 @@ def test_stage_against_materialx_usd_preview_surface(renderer, request, parity_s
         where = save_side_by_side("usd_stage_parity_" + name, ours, theirs)
         raise AssertionError("%s: %s, %s (side by side: %s)" % (
             name, "expected parity with MaterialX's graph" if agrees else "expected the by-design difference", p, where))
+
+
+def test_primvars_bound_per_mesh_are_bounded(tmp_path):
+    """A material reading more primvars than a mesh binds (stagerender.MAX_VERTEX_PRIMVARS) gets the first ones; each
+    other one is a problem line and its reader draws the fallback; a value a 32-bit attribute cannot hold is one too."""
+    from pxr import UsdGeom
+    from mtlxgen import stagerender
+    n = stagerender.MAX_VERTEX_PRIMVARS + 1
+    stage = Usd.Stage.CreateNew(str(tmp_path / "many.usda"))
+    mat = UsdShade.Material.Define(stage, "/Looks/Many")
+    total = None
+    for i in range(n):
+        reader = _shader(stage, "/Looks/Many/R%d" % i, "UsdPrimvarReader_float", varname=(T.String, "p%d" % i))
+        if total is None:
+            total = reader
+            continue
+        add = _shader(stage, "/Looks/Many/Add%d" % i, "ND_add_float")
+        _connect(add, "in1", T.Float, total, "result" if total.GetShaderId().startswith("Usd") else "out", T.Float)
+        _connect(add, "in2", T.Float, reader, "result", T.Float)
+        total = add
+    surf = _shader(stage, "/Looks/Many/S", "UsdPreviewSurface")
+    _connect(surf, "roughness", T.Float, total, "out", T.Float)
+    _surface(mat, surf)
+    quad = _quad(stage, "/World/Quad", 0, 0)
+    for i in range(n):
+        _primvar(quad, "p%d" % i, T.FloatArray, [0.01 * i])
+    odd = _quad(stage, "/World/Odd", 2, 0)
+    _primvar(odd, "p0", T.DoubleArray, [1e300])
+    for mesh in (quad, odd):
+        UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(mat)
+    stage.GetRootLayer().Save()
+    path = str(tmp_path / "many.usda")
+    view = stagerender.read_view(path)
+    bound = view.meshes[0].primvars
+    assert sorted(bound) == sorted("p%d" % i for i in range(n - 1)), sorted(bound)
+    assert [(str(loc), text) for loc, text in view.problems] == [
+        ("%s:/World/Quad.primvars:p%d" % (path, n - 1), "primvar not bound (its readers draw their fallback): the "
+         "mesh's materials read more than %d primvars as vertex attributes" % (n - 1)),
+        ("%s:/World/Odd.primvars:p0" % path, "primvar not bound (its readers draw their fallback): its values are "
+         "not finite 32-bit numbers")]
+    assert view.meshes[0].primvars["p3"].dtype == np.float32 and not view.meshes[1].primvars
