@@ -699,15 +699,18 @@ def renderable_elements(doc):
     nodes; where there are none, the outputs of its nodegraphs and its top-level outputs that are connected
     (by nodename) to a node of their own scope, other than a BSDF, EDF, VDF or light (an output holding a value
     alone, bound to an interface input, reading another nodegraph, or naming a node that is not there is not
-    drawn). Where even those are absent, its shader nodes (MaterialX finds nothing there; we still render them)."""
+    drawn). Where MaterialX finds nothing, we still draw what there is: every output (a light's, a BSDF's),
+    else the shader nodes."""
     materials = [n.name for n in doc.nodes.values() if n.type == "material"]
     if materials:
         return materials
-    out = ["%s/%s" % (g.name, o.name) for g in doc.nodegraphs.values() for o in g.outputs.values()
-           if _drawn_output(o, g.nodes)]
-    out += [o.name for o in doc.outputs.values() if _drawn_output(o, doc.nodes)]
-    if out:
-        return out
+    outputs = [("%s/%s" % (g.name, o.name), o, g.nodes) for g in doc.nodegraphs.values() for o in g.outputs.values()]
+    outputs += [(o.name, o, doc.nodes) for o in doc.outputs.values()]
+    drawn = [name for name, o, nodes in outputs if _drawn_output(o, nodes)]
+    if drawn:
+        return drawn
+    if outputs:
+        return [name for name, _, _ in outputs]
     return [n.name for n in doc.nodes.values() if n.type in SHADER_TYPES]
 
 

@@ -187,3 +187,12 @@ def test_renderable_elements_are_those_materialx_finds(tmp_path, reference, case
     theirs = reference.elements(path)
     assert theirs, "MaterialX finds nothing: the case tests nothing"
     assert graph.renderable_elements(pipeline.load_document(path)) == theirs
+
+
+def test_where_materialx_finds_nothing_every_output_is_drawn(tmp_path, reference):
+    """A document holding only a BSDF's output: MaterialX finds no renderable element; we still draw it."""
+    path = write_doc(tmp_path, '<nodegraph name="g"><oren_nayar_diffuse_bsdf name="b" type="BSDF" />'
+                               '<output name="o" type="BSDF" nodename="b" /></nodegraph>')
+    assert reference.elements(path) == []
+    assert graph.renderable_elements(pipeline.load_document(path)) == ["g/o"]
+    assert [s.element for s in pipeline.generate(path)] == ["g/o"]
