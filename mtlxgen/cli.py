@@ -1,4 +1,4 @@
-"""Command line: mtlxgen generate | render | info | golden check/update | report | batch.
+"""Command line: mtlxgen generate | render | info | view | golden check/update | report | batch.
 
 Errors in input print one `FILE:LINE: problem` line each on stderr and exit with status 1; so do
 usage errors and bad option values (`mtlxgen CMD: error: argument OPT: problem`), checked before any
@@ -229,6 +229,28 @@ def _render_stage(args, r, shaders):
     return view.problems
 
 
+def _geometry(text):
+    from .geometry import BUILTIN
+    return text if text in BUILTIN else _readable_file(text)
+
+
+def _samples(text):
+    from .view import SAMPLE_STEPS
+    v = _int_in(1, 65536)(text)
+    if v & (v - 1):
+        raise argparse.ArgumentTypeError("%d is not a power of two (e.g. %s)" % (v, ", ".join(map(str, SAMPLE_STEPS))))
+    return v
+
+
+def cmd_view(args):
+    from . import view
+    args.usd_options = _usd_options(args)
+    if (args.screenshot or args.capture_window) and args.headless_frames is None:
+        raise MtlxError((Loc(args.file, 0), "--screenshot and --capture-window go with --headless-frames N "
+                                            "(in the window: key C)"))
+    return view.run(args)
+
+
 def cmd_info(args):
     from . import pipeline
     options = _usd_options(args)
@@ -432,6 +454,38 @@ def build_parser():
     p = sub.add_parser("info", help="list elements, their nodes and unresolved problems")
     common(p)
     p.set_defaults(func=cmd_info)
+
+    p = sub.add_parser("view", help="a live window drawing the document's elements, redrawn as it is edited")
+    common(p)
+    p.add_argument("--element", metavar="NAME", type=_name, help="the element to show first (Tab cycles them)")
+    p.add_argument("--env", metavar="FILE", type=_readable_file,
+                   help="lat-long HDR/EXR environment (default: built-in sky)")
+    p.add_argument("--lights", metavar="RIG.mtlx", type=_readable_file,
+                   help="bind a light-rig document's point/directional/spot lights (L toggles them)")
+    p.add_argument("--geometry", type=_geometry, default="sphere", metavar="SHAPE",
+                   help="sphere (default, render's), plane, cube, shaderball, or a mesh file (OBJ, PLY, glTF, ...)")
+    p.add_argument("--size", type=_int_in(1, MAX_SIZE), nargs=2, default=(512, 512), metavar=("W", "H"),
+                   help="window size in pixels (default: 512 512)")
+    p.add_argument("--samples", type=_samples, default=256, metavar="N",
+                   help="environment samples of the converged picture, a power of two (default: 256; S steps "
+                        "through 16 .. 4096)")
+    p.add_argument("--frame-samples", type=_samples, default=16, metavar="N",
+                   help="samples per accumulated frame while the camera is still (default: 16)")
+    p.add_argument("--no-progressive", action="store_true",
+                   help="draw all --samples in every frame instead of accumulating frames")
+    p.add_argument("--background", action=argparse.BooleanOptionalAction, default=True,
+                   help="draw the environment behind the object (B toggles it; default: on)")
+    p.add_argument("-o", "--output", default=".", metavar="DIR", type=_output_dir,
+                   help="where screenshots (key C) go, named as render names them (default: .)")
+    p.add_argument("--headless-frames", type=_int_in(1, 1000000), default=None, metavar="N",
+                   help="draw N frames and exit: in a window where a display is (Xvfb too), else offscreen")
+    p.add_argument("--screenshot", type=_output_file, default=None, metavar="FILE",
+                   help="with --headless-frames: write the last frame to FILE (.png; and .exr beside it)")
+    p.add_argument("--capture-window", type=_output_file, default=None, metavar="FILE",
+                   help="with --headless-frames: also write what the window shows (panel included) to FILE.png")
+    p.add_argument("--no-watch", action="store_true", help="do not reload when the files change (R reloads)")
+    p.add_argument("--no-panel", action="store_true", help="no property panel")
+    p.set_defaults(func=cmd_view)
 
     def pool(p):
         p.add_argument("-j", "--workers", type=_int_in(1, MAX_WORKERS), default=None, metavar="N",
