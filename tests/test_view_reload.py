@@ -1,0 +1,164 @@
+"""Hot reload in `mtlxgen view` (issue 12): the document is edited while the viewer runs in a glfw window
+under Xvfb. A colour edited: the new colour drawn without relinking (the value set on the linked program).
+A broken node written: the last good shader still drawn, the FILE:LINE problem printed and in the title.
+Fixed with a new node: linked again, the new colour drawn, 'no problems' printed. A texture rewritten: the
+texture read again, nothing regenerated. Elements not shown are not relinked when their text is unchanged."""
+import io
+import os
+import time
+
+import numpy as np
+import pytest
+
+from mtlxgen import images
+
+from xvfb import start_xvfb, stop_xvfb
+
+SIZE = 32
+
+DOC = """<?xml version="1.0"?>
+<materialx version="1.39">
+  {extra}
+  <surface_unlit name="unlit" type="surfaceshader">
+    <input name="emission_color" type="color3" {color} />
+  </surface_unlit>
+  <surfacematerial name="M_red" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="unlit" />
+  </surfacematerial>
+  <surface_unlit name="other" type="surfaceshader">
+    <input name="emission_color" type="color3" value="0, 0, 1" />
+  </surface_unlit>
+  <surfacematerial name="M_other" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="other" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+@pytest.fixture(scope="module")
+def window():
+    """A glfw window on an Xvfb display of our own; DISPLAY is this process's only while the window is open."""
+    display = start_xvfb()
+    saved = {k: os.environ.get(k) for k in ("DISPLAY", "WAYLAND_DISPLAY")}
+    os.environ["DISPLAY"] = display.name
+    os.environ.pop("WAYLAND_DISPLAY", None)
+    try:
+        from mtlxgen.view import GlfwWindow
+        w = GlfwWindow((SIZE, SIZE), visible=True)
+        try:
+            yield w
+        finally:
+            w.close()
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+        stop_xvfb(display)
+
+
+def write(path, text):
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def run_until(viewer, window, done, timeout=60.0):
+    """Draw frames until done() (a reload applied, a texture read) or fail after `timeout` seconds."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        window.poll()
+        viewer.frame(window.screen)
+        window.swap()
+        if done():
+            for _ in range(2):            # the frame that shows it, and one more
+                viewer.frame(window.screen)
+            return
+        time.sleep(0.01)
+    raise AssertionError("nothing happened in %.0f s; problems: %s" % (timeout, viewer.problems))
+
+
+def centre(viewer):
+    return viewer.image()[SIZE // 2, SIZE // 2, :3]
+
+
+def reloaded(viewer, before):
+    return lambda: viewer.generation > before and not viewer.reloader.busy()
+
+
+def test_edit_colour_break_fix(tmp_path, window):
+    from mtlxgen.view import Viewer
+    doc = str(tmp_path / "live.mtlx")
+    write(doc, DOC.format(extra="", color='value="0.8, 0.1, 0.1"'))
+    out = io.StringIO()
+    viewer = Viewer(window.ctx, doc, size=(SIZE, SIZE), background=False, out=out)
+    titles = []
+    viewer.set_title = lambda: titles.append(viewer.title())
+    try:
+        run_until(viewer, window, lambda: viewer.frames >= 1)
+        assert viewer.element == "M_red" and viewer.problems == []
+        assert np.allclose(centre(viewer), [0.8, 0.1, 0.1], atol=1e-3)
+        first = viewer.loaded["M_red"].prepared
+        viewer.cycle_element()                                  # M_other linked once ...
+        run_until(viewer, window, lambda: "M_other" in viewer.loaded)
+        assert np.allclose(centre(viewer), [0, 0, 1], atol=1e-3)
+        other = viewer.loaded["M_other"].prepared
+        viewer.cycle_element()
+
+        # 1. a colour edited: set on the linked program, nothing relinked
+        g = viewer.generation
+        write(doc, DOC.format(extra="", color='value="0.1, 0.7, 0.2"'))
+        run_until(viewer, window, reloaded(viewer, g))
+        assert viewer.loaded["M_red"].prepared is first
+        assert np.allclose(centre(viewer), [0.1, 0.7, 0.2], atol=1e-3)
+        assert viewer.last_reload is not None and "1 value set" in viewer.last_reload[1]
+        viewer.cycle_element()                                  # ... and not again: its text did not change
+        run_until(viewer, window, lambda: True)
+        assert viewer.loaded["M_other"].prepared is other
+        viewer.cycle_element()
+
+        # 2. a broken node: the last good shader kept, the problem printed with its file and line
+        g = viewer.generation
+        write(doc, DOC.format(extra='<bogus_noise name="n" type="color3" />',
+                              color='nodename="n"'))
+        run_until(viewer, window, reloaded(viewer, g))
+        assert len(viewer.problems) == 1
+        assert viewer.problems[0].startswith("%s:3: unknown node category 'bogus_noise'" % doc), viewer.problems
+        assert viewer.problems[0] in out.getvalue()
+        assert "PROBLEM: " + viewer.problems[0] in titles[-1]
+        assert np.allclose(centre(viewer), [0.1, 0.7, 0.2], atol=1e-3)      # still drawn
+
+        # 3. fixed, with a node of its own: linked again, the new colour drawn
+        g = viewer.generation
+        write(doc, DOC.format(extra='<constant name="n" type="color3"><input name="value" type="color3" '
+                                    'value="0.9, 0.6, 0.0" /></constant>', color='nodename="n"'))
+        run_until(viewer, window, reloaded(viewer, g))
+        assert viewer.problems == []
+        assert viewer.loaded["M_red"].prepared is not first
+        assert np.allclose(centre(viewer), [0.9, 0.6, 0.0], atol=1e-3)
+        assert "%s: no problems: drawing M_red" % doc in out.getvalue()
+        assert "PROBLEM" not in titles[-1]
+    finally:
+        viewer.close()
+
+
+def test_texture_edit_reads_the_texture_again(tmp_path, window):
+    from mtlxgen.view import Viewer
+    tex = str(tmp_path / "swatch.png")
+    images.write_image(tex, np.full((4, 4, 3), [1.0, 0.0, 0.0], np.float32))
+    doc = str(tmp_path / "textured.mtlx")
+    write(doc, DOC.format(extra='<image name="img" type="color3"><input name="file" type="filename" '
+                                'value="swatch.png" /></image>', color='nodename="img"'))
+    viewer = Viewer(window.ctx, doc, size=(SIZE, SIZE), background=False, out=io.StringIO())
+    try:
+        run_until(viewer, window, lambda: viewer.frames >= 1)
+        assert np.allclose(centre(viewer), [1, 0, 0], atol=1e-3)
+        prepared, g = viewer.loaded["M_red"].prepared, viewer.generation
+        viewer.last_reload = None
+        images.write_image(tex, np.full((4, 4, 3), [0.0, 1.0, 0.0], np.float32))
+        run_until(viewer, window, lambda: viewer.last_reload is not None)
+        assert viewer.last_reload[1] == "texture"
+        assert viewer.generation == g and viewer.loaded["M_red"].prepared is prepared   # nothing regenerated
+        assert np.allclose(centre(viewer), [0, 1, 0], atol=1e-3)
+    finally:
+        viewer.close()
