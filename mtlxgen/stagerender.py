@@ -6,10 +6,10 @@ faces (polygons as fans), normals (`primvars:normals` or `normals`, any interpol
 where none are authored), the texture coordinates its material's primvar readers name (else `st`, else the
 first float2 primvar) as the renderer's one texcoord stream, tangents from those, its world transform, and
 its material binding (`ComputeBoundMaterial`, GeomSubsets with their own bindings split the faces). The
-primvars its materials' other primvar readers (float, float3, float4, int) and MaterialX geompropvalue nodes
+primvars its materials' primvar readers (float, float2, float3, float4, int) and MaterialX geompropvalue nodes
 name are bound as the vertex attributes the shaders read (the manifest's "attributes" and "primvars"), any
-interpolation on a mesh, constant ones on an implicit Sphere or Cube; a reader whose primvar the mesh lacks
-draws its fallback. Meshes without a material draw a grey UsdPreviewSurface in their constant `displayColor`. Subdivision surfaces are
+interpolation on a mesh, constant ones on an implicit Sphere or Cube, so readers of two texture coordinate sets
+each read their own; a reader whose primvar the mesh lacks draws the texcoord stream (float2) or its fallback. Meshes without a material draw a grey UsdPreviewSurface in their constant `displayColor`. Subdivision surfaces are
 drawn as their control cage. A stage whose up axis is Z is turned to Y up (the lighting's up) with its camera.
 The camera is the first UsdGeomCamera on the stage; without one, a camera at (0, 0.3, 1) from the centre of
 the meshes' bounds, far enough for a 45 degree view to hold them. The output is square: a camera's aperture
@@ -231,8 +231,7 @@ def _mesh(prim, info, time, problems):
 
 
 def _vertex_primvars(prim, info, elements, time, idx, face_of_corner, corners, problems):
-    """{name: per-corner values} of the primvars the bound materials read as vertex attributes (not their
-    texture coordinates). A primvar whose values do not fit the mesh is a problem, and its readers draw their
+    """{name: per-corner values} of the primvars the bound materials read as vertex attributes. A primvar whose values do not fit the mesh is a problem, and its readers draw their
     fallback; an implicit Sphere or Cube (idx None) takes constant primvars only."""
     from pxr import UsdGeom
     pv = UsdGeom.PrimvarsAPI(prim)

@@ -74,7 +74,7 @@ class MaterialInfo:
     notes: list = field(default_factory=list)       # [(Loc, message)]: reported, the element still drawn
     ignored: list = field(default_factory=list)     # [(Loc, message)]: listed by info only
     primvars: list = field(default_factory=list)    # varnames of its float2 primvar readers (the stage's meshes)
-    vertex_primvars: list = field(default_factory=list)     # primvars its other readers and geompropvalues read
+    vertex_primvars: list = field(default_factory=list)     # primvars its readers and geompropvalues read
 
 
 @dataclass
@@ -287,9 +287,9 @@ _PRIMVAR_TYPES = {"float": "float", "float2": "vector2", "float3": "vector3", "f
                   "string": "string", "normal": "vector3", "point": "vector3", "vector": "vector3",
                   "matrix": "matrix44"}
 
-# primvar readers drawn from a vertex attribute on the stage's meshes (float2 ones read the texture coordinates)
-_VERTEX_READERS = tuple("UsdPrimvarReader_" + t for t in ("float", "float3", "float4", "int", "normal", "point",
-                                                          "vector"))
+# primvar readers drawn from a vertex attribute on the stage's meshes (float2 ones also choose the texture coordinates)
+_VERTEX_READERS = tuple("UsdPrimvarReader_" + t for t in ("float", "float2", "float3", "float4", "int", "normal",
+                                                          "point", "vector"))
 
 USD_SHADER_IDS = ("UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader_<type>", "UsdTransform2d")
 
@@ -547,7 +547,7 @@ class _StageReader:
                         name = self.varname(s[0])
                         if name and name not in info.primvars:
                             info.primvars.append(name)
-                    elif s[1] in _VERTEX_READERS or s[1].startswith("ND_geompropvalue_"):
+                    if s[1] in _VERTEX_READERS or s[1].startswith("ND_geompropvalue_"):
                         name = self.varname(s[0], "geomprop" if s[1].startswith("ND_") else "varname")
                         if name and name not in info.vertex_primvars:
                             info.vertex_primvars.append(name)

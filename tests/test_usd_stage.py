@@ -1218,3 +1218,40 @@ def test_primvars_bound_per_mesh_are_bounded(tmp_path):
         ("%s:/World/Odd.primvars:p0" % path, "primvar not bound (its readers draw their fallback): its values are "
          "not finite 32-bit numbers")]
     assert view.meshes[0].primvars["p3"].dtype == np.float32 and not view.meshes[1].primvars
+
+
+@pytest.mark.parametrize("first", ["st", "uv2"])
+def test_two_texture_coordinate_sets_on_one_mesh(renderer, tmp_path, first):
+    """A material reading a texture through `st` and another through `uv2` on a mesh holding both: each reader
+    reads its own set (whichever the mesh binds as its texture coordinates); on the sphere both read the sphere's."""
+    from mtlxgen import stagerender
+    _png(tmp_path, "ramp.png", lambda u, v: (u * 255, u * 255, u * 255))
+    _png(tmp_path, "white.png", lambda u, v: (255 + 0 * u, 255 + 0 * u, 255 + 0 * u))
+    stage = Usd.Stage.CreateNew(str(tmp_path / "sets.usda"))
+    mat = UsdShade.Material.Define(stage, "/Looks/Two")
+    surf = _shader(stage, "/Looks/Two/S", "UsdPreviewSurface", diffuseColor=(T.Color3f, Gf.Vec3f(0, 0, 0)),
+                   roughness=(T.Float, 1.0))
+    product = _shader(stage, "/Looks/Two/Times", "ND_multiply_color3")
+    for i, (varname, png) in enumerate(((first, "white.png"), ({"st": "uv2", "uv2": "st"}[first], "ramp.png"))):
+        reader = _shader(stage, "/Looks/Two/R%d" % i, "UsdPrimvarReader_float2", varname=(T.Token, varname))
+        tex = _shader(stage, "/Looks/Two/T%d" % i, "UsdUVTexture", file=(T.Asset, png), sourceColorSpace=(T.Token, "raw"))
+        _connect(tex, "st", T.Float2, reader, "result", T.Float2)
+        _connect(product, "in%d" % (i + 1), T.Color3f, tex, "rgb")
+    _connect(surf, "emissiveColor", T.Color3f, product, "out")
+    _surface(mat, surf)
+    ramp_set = {"st": "uv2", "uv2": "st"}[first]           # the set the ramp is read through: along u across the quad
+    quad = _quad(stage, "/World/Quad", -0.9, -0.9, size=1.8)
+    _primvar(quad, ramp_set, T.TexCoord2fArray, [(0, 0), (1, 0), (1, 1), (0, 1)], "vertex")
+    _primvar(quad, first, T.TexCoord2fArray, [(0.5, 0.5)] * 4, "vertex")    # the white texture, read at its middle
+    UsdShade.MaterialBindingAPI.Apply(quad.GetPrim()).Bind(mat)
+    from pxr import UsdGeom
+    UsdGeom.Xformable(UsdGeom.Camera.Define(stage, "/Cam")).AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
+    stage.GetRootLayer().Save()
+    path = str(tmp_path / "sets.usda")
+    shaders = {s.element: s for s in pipeline.generate(path)}
+    assert sorted(p["varname"] for p in shaders["Looks_Two"].manifest["primvars"]) == ["st", "uv2"]
+    img = stagerender.render_stage(renderer, stagerender.read_view(path), shaders, stagerender.fallback_shader())
+    n = img.shape[0]
+    row = img[n // 2, :, :3].mean(-1)
+    left, right = row[int(0.2 * n)], row[int(0.8 * n)]
+    assert right > 0.6 and left < 0.35 * right, (left, right)        # the ramp across, through its own set

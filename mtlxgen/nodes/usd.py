@@ -21,14 +21,14 @@ glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES), and accepts
   output = texel * scale + bias; `fallback` when the file cannot be read at generation time.
   Wrapping is done in GLSL (glsl_lib/usd/usd_uvtexture.glsl), so it holds whatever the sampler state;
   the manifest's texture entry also carries the MaterialX address modes, channel count and colour space.
-- UsdPrimvarReader: a float2 reader of any varname reads the renderer's texture coordinates (the one
-  texture coordinate stream its geometry has). Float, float3 (normal, point, vector) and float4 readers, and
-  int ones, read the vertex attribute `i_geomprop_VARNAME` where the renderer has bound the geometry's
-  primvar of that name and set the reader's flag uniform to 1 (the manifest's "primvars" lists reader,
-  attribute and flag; a varname that is no GLSL name part gets a hashed one), else their `fallback`, as the
-  seed says and Storm draws (UsdImaging hands a renderer only the primvars a mesh authors, `displayColor`
-  too): on the sphere, which carries no other primvar, always the fallback. String and filename readers
-  keep MaterialX's graphs.
+- UsdPrimvarReader: every float, float2, float3 (normal, point, vector), float4 and int reader reads the
+  vertex attribute `i_geomprop_VARNAME` where the renderer has bound the geometry's primvar of that name and
+  set the reader's flag uniform to 1 (the manifest's "primvars" lists reader, attribute and flag; a varname
+  that is no GLSL name part gets a hashed one). Otherwise a float2 reader of any varname reads the renderer's
+  texture coordinates (the sphere's, or the stream a stage's mesh binds as its texture coordinates), and the
+  others their `fallback`, as the seed says and Storm draws (UsdImaging hands a renderer only the primvars a
+  mesh authors, `displayColor` too): on the sphere, which carries no other primvar, always. String and
+  filename readers keep MaterialX's graphs.
 - UsdPreviewSurface: a nodegraph of ours (usd_seed.mtlx): metallic F0 = F90 = albedo (interpolated
   with the dielectric F0 from ior and F90 = 1), no conductor; opacity is alpha, not refraction;
   opacityThreshold > 0 cuts out (alpha 0 below the threshold, 1 at or above it).
@@ -228,15 +228,16 @@ def primvar_attribute(varname):
 
 
 def primvar_reader(node, em):
-    """UsdPrimvarReader_float/float3/float4/int: the primvar's vertex attribute where the renderer binds one
-    (flag uniform 1), else the fallback. In the vertex stage (displacement) there is no flag: the fallback."""
+    """UsdPrimvarReader_float/float2/float3/float4/int: the primvar's vertex attribute where the renderer binds
+    one (flag uniform 1), else the renderer's texture coordinates (float2) or the fallback (the others). In the
+    vertex stage (displacement) there is no flag: the texture coordinates or the fallback."""
     from ..emit import VertexEmitter
     from ..graph import Uniform
-    fallback = em.input_expr(node, "fallback")
+    out_type = node.outputs["out"]
+    otherwise = em.stream("texcoord_0") if out_type == "vector2" else em.input_expr(node, "fallback")
     varname = node.static.get("varname") or ""
     if not varname or isinstance(em, VertexEmitter):
-        return {"out": fallback}
-    out_type = node.outputs["out"]
+        return {"out": otherwise}
     attribute = primvar_attribute(varname)
     taken = em.streams.get(attribute[len("i_"):])
     if taken is not None and taken.type != em.glsl_type(out_type):     # the same primvar read as another type
@@ -246,7 +247,7 @@ def primvar_reader(node, em):
     em.graph.uniforms[flag] = Uniform(name=flag, type="integer", value=0, loc=node.loc)
     em.primvars.append({"varname": varname, "attribute": attribute, "type": em.glsl_type(out_type),
                         "uniform": flag})
-    return {"out": "(%s != 0 ? %s : %s)" % (flag, value, fallback)}
+    return {"out": "(%s != 0 ? %s : %s)" % (flag, value, otherwise)}
 
 
 NODES = {
@@ -254,4 +255,4 @@ NODES = {
 }
 
 NODEDEFS = {"ND_usd_seed_UsdPrimvarReader_%s" % t: {"handler": primvar_reader}
-            for t in ("float", "vector3", "vector4", "integer")}
+            for t in ("float", "vector2", "vector3", "vector4", "integer")}
