@@ -1255,3 +1255,15 @@ def test_two_texture_coordinate_sets_on_one_mesh(renderer, tmp_path, first):
     row = img[n // 2, :, :3].mean(-1)
     left, right = row[int(0.2 * n)], row[int(0.8 * n)]
     assert right > 0.6 and left < 0.35 * right, (left, right)        # the ramp across, through its own set
+
+
+@pytest.mark.skipif(not __import__("shutil").which("glslangValidator"), reason="glslangValidator not installed "
+                    "(Debian glslang-tools; .ci/run installs it)")
+def test_stage_shaders_are_valid_to_the_reference_compiler(tmp_path, monkeypatch):
+    """The shaders of the copied stages and of the primvar stage (flag uniforms, flat int attributes, hashed
+    attribute names) pass Khronos' glslangValidator, not only Mesa."""
+    from test_glsl_validity import check_documents
+    monkeypatch.setenv("MTLXGEN_CACHE", str(tmp_path / "cache"))
+    paths = [os.path.join(USD_DATA, entry) for entry in sorted(DATA_STAGES)] + [_primvar_stage(tmp_path)]
+    count, errors = check_documents(paths, str(tmp_path))
+    assert count >= len(paths) and not errors, errors[:10]
