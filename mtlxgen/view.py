@@ -763,18 +763,22 @@ class Viewer:
         if self.moving:
             self.accumulated = 0
         loaded = self.current()
+        drew = False
         if loaded is not None:
             n, frames = self.plan(loaded)
             if self.accumulated < frames:
                 self._draw_once(loaded, n, frames)
                 self.shown_generation = self.generation
+                drew = True
         elif self.accumulated == 0:
             self._targets["sum"].clear(0.0, 0.0, 0.0, 0.0)
             self.accumulated = 1
         if target is not None:
             self.present(target)
         self.frames += 1
-        self.frame_time = time.perf_counter() - t0
+        if drew:                        # the time of a frame that drew (a converged picture is only presented)
+            self.ctx.finish()
+            self.frame_time = time.perf_counter() - t0
 
     def _draw_once(self, loaded, n, frames):
         ctx, frame, total = self.ctx, self._targets["frame"], self._targets["sum"]

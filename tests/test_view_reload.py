@@ -162,3 +162,40 @@ def test_texture_edit_reads_the_texture_again(tmp_path, window):
         assert np.allclose(centre(viewer), [0, 1, 0], atol=1e-3)
     finally:
         viewer.close()
+
+
+def test_panel_sets_a_value_and_saves_it(tmp_path, window):
+    """The property panel: a colour set on the linked program (no relink); Save writes it into the document,
+    whose reload then draws the same colour from the file; the panel itself is drawn over the picture."""
+    from mtlxgen.view import Viewer
+    from mtlxgen.viewpanel import Panel
+    doc = str(tmp_path / "panel.mtlx")
+    write(doc, DOC.format(extra="", color='value="0.8, 0.1, 0.1"'))
+    viewer = Viewer(window.ctx, doc, size=(SIZE, SIZE), background=False, out=io.StringIO())
+    panel = Panel(viewer, window)
+    try:
+        run_until(viewer, window, lambda: viewer.frames >= 1)
+        panel.draw(window.screen)
+        panel._refresh()
+        item = {i.uniform: i for i in panel.inputs}["unlit_emission_color"]
+        assert (item.label, item.mtlx_type, item.value) == ("emission_color", "color3", (0.8, 0.1, 0.1))
+        prepared = viewer.loaded["M_red"].prepared
+        panel.set_value(item, (0.2, 0.4, 0.6))
+        run_until(viewer, window, lambda: True)
+        assert np.allclose(centre(viewer), [0.2, 0.4, 0.6], atol=1e-3)
+        assert viewer.loaded["M_red"].prepared is prepared
+        g = viewer.generation
+        assert panel.save() == [doc]
+        assert '<input name="emission_color" type="color3" value="0.2, 0.4, 0.6" />' in open(doc).read()
+        run_until(viewer, window, reloaded(viewer, g))
+        assert viewer.loaded["M_red"].overrides == {} and viewer.loaded["M_red"].prepared is prepared
+        assert np.allclose(centre(viewer), [0.2, 0.4, 0.6], atol=1e-3)
+        # the panel over the picture: its window's pixels in the top-left corner of the screen
+        viewer.frame(window.screen)
+        bare = np.frombuffer(window.screen.read(viewport=(0, 0, SIZE, SIZE), components=3), np.uint8).copy()
+        panel.draw(window.screen)
+        drawn = np.frombuffer(window.screen.read(viewport=(0, 0, SIZE, SIZE), components=3), np.uint8).copy()
+        assert (bare != drawn).mean() > 0.1
+    finally:
+        panel.release()
+        viewer.close()

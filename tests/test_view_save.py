@@ -1,0 +1,122 @@
+"""The property panel's model and "Save" (issue 12), without a window: docedit.public_inputs lists an element's
+public inputs with the nodedef's ui metadata and where each is written; save_values writes edited values back as
+the smallest text edit (the value attribute at the input's line, or one <input> line added to its node),
+touching nothing else; the document generated again gives the edited values."""
+import os
+
+import pytest
+
+from mtlxgen import docedit, pipeline
+from mtlxgen.diagnostics import MtlxError
+
+DOC = """<?xml version="1.0"?>
+<!-- a comment that stays -->
+<materialx version="1.39">
+  <standard_surface name="SR" type="surfaceshader">
+    <input name="base" type="float" value="0.8"/>
+    <input   type="color3"   name="base_color" value='0.1, 0.2, 0.3' />
+    <input name="metalness" type="float" />
+  </standard_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+  <checkerboard name="chk" type="color3"/>
+  <surface_unlit name="U" type="surfaceshader">
+    <input name="emission_color" type="color3" nodename="chk" />
+  </surface_unlit>
+  <surfacematerial name="M2" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="U" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def write(tmp_path, text, newline="\n"):
+    path = str(tmp_path / "doc.mtlx")
+    with open(path, "w", newline="") as f:
+        f.write(text.replace("\n", newline))
+    return path
+
+
+def inputs(path, element):
+    return {i.uniform: i for i in docedit.public_inputs(pipeline.Session(path), element)}
+
+
+def values(path, element):
+    s = pipeline.generate(path, [element])[0]
+    return {u["name"]: u["value"] for u in s.manifest["uniforms"]}
+
+
+def test_inputs_carry_the_nodedefs_ui_metadata(tmp_path):
+    got = inputs(write(tmp_path, DOC), "M")
+    base = got["SR_base"]
+    assert (base.node, base.input, base.label, base.folder, base.group) == ("SR", "base", "Base", "Base", "SR / Base")
+    assert base.ui == {"uimin": 0.0, "uimax": 1.0} and base.value == 0.8
+    assert base.where.line == 5 and base.node_loc.line == 4
+    assert got["SR_metalness"].where.line == 7            # authored without a value: the default, still its line
+    ior = got["SR_specular_IOR"]
+    assert ior.where is None and ior.ui["uisoftmin"] == 1.0 and ior.ui["uisoftmax"] == 3.0
+    assert got["SR_thin_walled"].mtlx_type == "boolean"
+    assert "SR_base_color" in got and got["SR_base_color"].value == (0.1, 0.2, 0.3)
+
+
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+def test_save_is_the_smallest_edit_and_reads_back(tmp_path, newline):
+    path = write(tmp_path, DOC, newline)
+    got = inputs(path, "M")
+    edits = [(got["SR_base"], 0.25), (got["SR_base_color"], (0.5, 0.25, 1.0)), (got["SR_metalness"], 1.0),
+             (got["SR_specular_IOR"], 2.2), (got["SR_coat"], 0.5)]
+    assert docedit.save_values(edits) == [path]
+    with open(path, newline="") as f:
+        text = f.read()
+    # the inputs it did not author: one line each after the node's start tag, at its children's indentation;
+    # the others: their value attribute alone (quotes, spacing and attribute order as they were)
+    expected = DOC.replace(
+        '  <standard_surface name="SR" type="surfaceshader">\n',
+        '  <standard_surface name="SR" type="surfaceshader">\n'
+        '    <input name="specular_IOR" type="float" value="2.2" />\n'
+        '    <input name="coat" type="float" value="0.5" />\n').replace(
+        'value="0.8"/>', 'value="0.25"/>').replace(
+        "value='0.1, 0.2, 0.3' />", "value='0.5, 0.25, 1' />").replace(
+        '<input name="metalness" type="float" />', '<input name="metalness" type="float" value="1" />')
+    assert text == expected.replace("\n", newline)
+    v = values(path, "M")
+    assert v["SR_base"] == 0.25 and v["SR_base_color"] == [0.5, 0.25, 1.0] and v["SR_metalness"] == 1.0
+    assert v["SR_specular_IOR"] == 2.2 and v["SR_coat"] == 0.5
+
+
+def test_a_self_closed_node_is_opened_for_its_input(tmp_path):
+    path = write(tmp_path, DOC)
+    got = inputs(path, "M2")
+    assert got["chk_color1"].where is None and got["chk_color1"].node_loc.line == 12
+    docedit.save_values([(got["chk_color1"], (0.0, 1.0, 0.0)), (got["chk_uvtiling"], (4.0, 4.0))])
+    text = open(path).read()
+    assert ('  <checkerboard name="chk" type="color3">\n'
+            '    <input name="color1" type="color3" value="0, 1, 0" />\n'
+            '    <input name="uvtiling" type="vector2" value="4, 4" />\n'
+            '  </checkerboard>\n') in text
+    v = values(path, "M2")
+    assert v["chk_color1"] == [0.0, 1.0, 0.0] and v["chk_uvtiling"] == [4.0, 4.0]
+    assert text.replace(text[text.index("  <checkerboard"):text.index("  <surface_unlit")], "") == \
+        DOC.replace('  <checkerboard name="chk" type="color3"/>\n', "")
+
+
+def test_a_file_changed_since_it_was_read_is_not_written(tmp_path):
+    path = write(tmp_path, DOC)
+    got = inputs(path, "M")
+    with open(path, "w") as f:                    # an editor moved the input since
+        f.write(DOC.replace('    <input name="base" type="float" value="0.8"/>\n', "\n"))
+    before = open(path).read()
+    with pytest.raises(MtlxError) as e:
+        docedit.save_values([(got["SR_base"], 0.1), (got["SR_metalness"], 0.3)])
+    assert e.value.lines() == ["%s:5: input 'base' of 'SR' is no longer at this line: not saved" % path]
+    assert open(path).read() == before            # nothing written, not even the edit that still fitted
+
+
+def test_format_value():
+    assert docedit.format_value("float", 0.10000000149011612) == "0.1"
+    assert docedit.format_value("color3", (1.0, 0.5, -0.0)) == "1, 0.5, 0"
+    assert docedit.format_value("integer", 3.0) == "3"
+    assert docedit.format_value("boolean", True) == "true"
+    assert docedit.format_value("filename", "a&b.png") == "a&b.png"
+    assert docedit._escape(docedit.format_value("filename", 'a&"b.png')) == "a&amp;&quot;b.png"
