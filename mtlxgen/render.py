@@ -301,7 +301,7 @@ class Renderer:
     def close(self):
         if self.ctx is not None:
             if not self._owns_ctx:          # a window's context: release what was made in it, leave it open
-                for t in ([self.fbo, self.fbo.depth_attachment, self.index, self.env] + self.fbo.color_attachments
+                for t in ([self.fbo, self.fbo.depth_attachment, self.index, self.env] + list(self.fbo.color_attachments)
                           + [b for b, _ in self.buffers.values()] + [t for t in self._image_cache.values() if t]):
                     t.release()
                 if self.irradiance is not self.env:
