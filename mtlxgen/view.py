@@ -101,12 +101,19 @@ def skeleton(text):
     return _UNIFORM_INIT.sub(lambda m: m.group(1) + ";", text)
 
 
-def initial_values(text):
+def initializers(text):
+    """{uniform: initial value as written} of the uniforms declared with one."""
+    return {m.group(3): m.group(4).strip() for m in _UNIFORM_INIT.finditer(text)}
+
+
+def initial_values(text, names=None):
     """{uniform: value} of the uniforms declared with an initial value of a type a program can be set to
-    (numbers, vectors, matrices); a value that is not plain numbers is left out."""
+    (numbers, vectors, matrices); a value that is not plain numbers is left out. names: only these."""
     out = {}
     for m in _UNIFORM_INIT.finditer(text):
         glsl, name, expr = m.group(2), m.group(3), m.group(4).strip()
+        if names is not None and name not in names:
+            continue
         n = _SETTABLE.get(glsl)
         if n is None:
             continue
@@ -221,9 +228,10 @@ class Reload:
 class Reloader:
     """Generates on a thread of its own so the window keeps drawing; one request at a time, the latest wins."""
 
-    def __init__(self, generator, path):
+    def __init__(self, generator, path, wake=None):
         self.generator = generator
         self.path = path
+        self.wake = wake                    # called (from this thread) when a result is ready
         self._lock = threading.Lock()
         self._wake = threading.Condition(self._lock)
         self._request = None
@@ -269,6 +277,8 @@ class Reloader:
             with self._lock:
                 self._done.append(result)
                 self._busy = False
+            if self.wake is not None:
+                self.wake()
 
     def generate(self, element, environment, changed_at=0.0):
         r = Reload(started=time.perf_counter(), changed_at=changed_at, environment=environment)
@@ -296,8 +306,9 @@ class Reloader:
 class Watcher:
     """watchdog on the folders of the watched files; changed() gives {path: perf_counter of its last event}."""
 
-    def __init__(self):
+    def __init__(self, wake=None):
         from watchdog.observers import Observer
+        self.wake = wake                    # called (from watchdog's thread) when a watched file changes
         self._observer = Observer()
         self._observer.daemon = True
         self._lock = threading.Lock()
@@ -319,8 +330,11 @@ class Watcher:
                     if p:
                         p = os.path.abspath(os.fsdecode(p))
                         with watcher._lock:
-                            if p in watcher._paths:
+                            hit = p in watcher._paths
+                            if hit:
                                 watcher._changed[p] = now
+                        if hit and watcher.wake is not None:
+                            watcher.wake()
 
         paths = {os.path.abspath(p) for p in paths if p}
         with self._lock:
@@ -421,7 +435,8 @@ class Viewer:
 
     def __init__(self, ctx, path, size=(512, 512), element=None, generator=None, environment_method="fis",
                  env_file=None, lights_file=None, geometry="sphere", samples=256, background=True,
-                 output_dir=".", watch=True, out=None, progressive=True, frame_samples=FRAME_SAMPLES):
+                 output_dir=".", watch=True, out=None, progressive=True, frame_samples=FRAME_SAMPLES,
+                 keep_program=True):
         from . import geometry as geom
         self.ctx = ctx
         self.path = os.path.abspath(path)
@@ -434,6 +449,7 @@ class Viewer:
         self.lights_file = os.path.abspath(lights_file) if lights_file else None
         self.samples = samples
         self.frame_samples = frame_samples
+        self.keep_program = keep_program    # False: relink on every change, values too (as MaterialXView does)
         self.progressive = progressive
         self.background = background
         self.lights_on = True
@@ -460,6 +476,8 @@ class Viewer:
         self.frames = 0
         self.moving = False
         self._moved = False
+        self._preview = False               # the frame in the buffer is a quick one of few samples
+        self.wake = None                    # called from other threads when there is something to draw
         self.accumulated = 0                # frames in the accumulation buffer
         self._programs = {name: ctx.program(vertex_shader=_FULLSCREEN_VS, fragment_shader=fs)
                           for name, fs in (("background", _BACKGROUND_FS), ("copy", _COPY_FS),
@@ -468,15 +486,20 @@ class Viewer:
         self._targets = None
         self._make_targets()
         self._load_rig()
-        self.reloader = Reloader(self.generator, self.path)
+        self.reloader = Reloader(self.generator, self.path, wake=self._wake)
         self.watcher = None
         if watch:
             try:
-                self.watcher = Watcher()
+                self.watcher = Watcher(wake=self._wake)
             except ImportError:
                 self.say("%s:0: note: file watching needs watchdog (pip install 'mtlxgen[view]'): "
                          "press R to reload" % self.display_path)
         self._reload_now(element)
+        self._moved = False                 # the first frames accumulate at once
+
+    def _wake(self):
+        if self.wake is not None:
+            self.wake()
 
     # -------------------------------------------------------------- messages
 
@@ -520,7 +543,7 @@ class Viewer:
             self.camera.reset()
         else:
             self.camera.frame(centre, radius)
-        self.accumulated = 0
+        self.changed()
 
     def _load_rig(self):
         if not self.lights_file:
@@ -533,7 +556,7 @@ class Viewer:
             self.rig_problems = e.lines()
             for line in self.rig_problems:
                 self.say(line)
-        self.accumulated = 0
+        self.changed()
 
     # -------------------------------------------------------------- reloading
 
@@ -575,16 +598,22 @@ class Viewer:
             self.watcher.watch(watched)
         if r.changed_at:
             self.last_reload = (time.perf_counter() - r.changed_at, ", ".join(w for w in what if w) or "problems")
-        self.accumulated = 0
+        self.changed()
         self.set_title()
 
     def _install(self, name, g):
         """Link `g` for element `name` unless the drawn program differs from it only in initial values."""
         old = self.loaded.get(name)
-        if old is not None and old.generated.vertex == g.vertex and self._same_bindings(old.generated, g) \
+        changed = None
+        if old is not None and self.keep_program and old.generated.vertex == g.vertex \
+                and self._same_bindings(old.generated, g) \
                 and skeleton(old.generated.fragment) == skeleton(g.fragment):
-            before, after = initial_values(old.generated.fragment), initial_values(g.fragment)
-            changed = {k: v for k, v in after.items() if before.get(k) != v}
+            before, after = initializers(old.generated.fragment), initializers(g.fragment)
+            names = {k for k, v in after.items() if before.get(k) != v}
+            changed = initial_values(g.fragment, names)
+            if len(changed) != len(names):          # a value a program cannot be given (a struct): link anew
+                changed = None
+        if changed is not None:
             for k, v in changed.items():
                 old.overrides.pop(k, None)
                 set_uniform(old.prepared.prog, k, v)
@@ -639,7 +668,7 @@ class Viewer:
                 self.renderer.forget_texture(path)
                 self.say("%s: texture reloaded" % path)
                 self.last_reload = (time.perf_counter() - changed[path], "texture")
-                self.accumulated = 0
+                self.changed()
             if path == self.lights_file:
                 self._load_rig()
                 self.set_title()
@@ -649,7 +678,7 @@ class Viewer:
                 except MtlxError as e:
                     for line in e.lines():
                         self.say(line)
-                self.accumulated = 0
+                self.changed()
             if path not in textures and path not in (self.lights_file, self.env_file):
                 regenerate = True
         if regenerate:
@@ -682,7 +711,7 @@ class Viewer:
             return
         i = self.elements.index(self.element) if self.element in self.elements else 0
         self.element = self.elements[(i + step) % len(self.elements)]
-        self.accumulated = 0
+        self.changed()
         self.set_title()
 
     def toggle_environment(self):
@@ -695,7 +724,7 @@ class Viewer:
     def cycle_samples(self):
         i = SAMPLE_STEPS.index(self.samples) if self.samples in SAMPLE_STEPS else -1
         self.samples = SAMPLE_STEPS[(i + 1) % len(SAMPLE_STEPS)]
-        self.accumulated = 0
+        self.changed()
         self.say("samples: %d" % self.samples)
         self.set_title()
 
@@ -703,12 +732,12 @@ class Viewer:
         self.lights_on = not self.lights_on
         if not self.lights_file:
             self.say("lights: no light rig given (--lights RIG.mtlx)")
-        self.accumulated = 0
+        self.changed()
         self.set_title()
 
     def toggle_background(self):
         self.background = not self.background
-        self.accumulated = 0
+        self.changed()
         self.set_title()
 
     def cycle_geometry(self):
@@ -723,6 +752,10 @@ class Viewer:
 
     def moved(self):
         """The camera moved this frame: draw with few samples, start accumulating again once still."""
+        self._moved = True
+
+    def changed(self):
+        """What is drawn changed (an edit, a setting): a quick frame of few samples first, as for a move."""
         self._moved = True
 
     # -------------------------------------------------------------- drawing
@@ -750,10 +783,17 @@ class Viewer:
         return "%d/%d samples%s" % (done * n, n * frames, " (converged)" if done >= frames else "")
 
     def converged(self):
+        """Nothing left to draw: every frame of the estimate accumulated (not a quick frame, nothing pending)."""
         loaded = self.loaded.get(self.element)
         if loaded is None:
             return True
-        return self.accumulated >= self.plan(loaded)[1]
+        if self._moved or self._preview:
+            return False
+        moving, self.moving = self.moving, False
+        try:
+            return self.accumulated >= self.plan(loaded)[1]
+        finally:
+            self.moving = moving
 
     def frame(self, target=None):
         """Draw one frame: take reloads, add one accumulation step if not converged, present into `target`."""
@@ -766,9 +806,12 @@ class Viewer:
         drew = False
         if loaded is not None:
             n, frames = self.plan(loaded)
+            if self._preview and not self.moving:       # still again: the quick frame is not part of the mean
+                self.accumulated, self._preview = 0, False
             if self.accumulated < frames:
                 self._draw_once(loaded, n, frames)
                 self.shown_generation = self.generation
+                self._preview = self.moving and frames == 1 and n == MOVING_SAMPLES
                 drew = True
         elif self.accumulated == 0:
             self._targets["sum"].clear(0.0, 0.0, 0.0, 0.0)
@@ -977,6 +1020,10 @@ class GlfwWindow:
     def swap(self):
         self.glfw.swap_buffers(self.window)
 
+    def wake(self):
+        """Wake the loop from another thread (a file changed, a reload finished)."""
+        self.glfw.post_empty_event()
+
     def close(self):
         self.glfw.destroy_window(self.window)
         self.glfw.terminate()
@@ -1090,6 +1137,7 @@ def run(args):
             raise MtlxError((Loc(args.file, 0), "no renderable element '%s' (elements: %s)"
                              % (args.element, ", ".join(viewer.elements) or "none")))
         window.viewer = viewer
+        viewer.wake = getattr(window, "wake", None)
         viewer.set_title = lambda: window.set_title(viewer.title())
         viewer.set_title()
         panel = None

@@ -222,7 +222,7 @@ class Panel:
         else:
             set_uniform(loaded.prepared.prog, item.uniform,
                         tuple(value) if isinstance(value, (list, tuple)) else value)
-        v.accumulated = 0
+        v.changed()
 
     def save(self):
         v = self.viewer
@@ -257,7 +257,7 @@ class Panel:
         files = {t["uniform"]: t.get("file") for t in loaded.generated.manifest.get("textures", [])}
         loaded.prepared.samplers = [(n, files.get(n, p), d) for n, p, d in loaded.prepared.samplers]
         loaded.overrides.clear()
-        v.accumulated = 0
+        v.changed()
         self.message = "reverted"
 
     def _widget(self, item):

@@ -1,0 +1,167 @@
+#!/usr/bin/env python3
+"""Edit-to-pixel latency of `mtlxgen view`: from a document's write to the first frame that shows the change,
+for mtlxgen's generator and for MaterialX's Python GenGlsl driven the same way (the same Viewer, window, file
+watcher, reload thread, text comparison and driver; only the generator differs).
+
+usage: bench_latency.py [--edits N] [--size N] [--kind value|connection|both] [--offscreen]
+
+Two kinds of edit of a standard_surface material, N each (default 10), each giving text not seen before:
+  value       its base_color value: the generated text differs only in a uniform's initial value, so the
+              viewer keeps the linked program and sets the value on it;
+  connection  its base_color fed by a node of a new name (a multiply of a checkerboard, then a constant, in
+              turn): new text, linked anew.
+Three rows each: mtlxgen; MaterialX's GenGlsl in the same viewer (the same text comparison: its value edits
+keep the program too); and MaterialX's GenGlsl relinking on every change, as MaterialXView does. The medians
+are printed with the ratios of ours to each. Mesa's shader cache is turned off (MESA_SHADER_CACHE_DISABLE) so
+that a link is a compile, as for an edit never seen before. A glfw window where a display is (run it under
+`xvfb-run -a` on machines without one), else an offscreen framebuffer (--offscreen forces it). On machines
+without a GPU this measures Mesa's llvmpipe; run it where a GPU is lent for the hardware figure. Timings only.
+"""
+import argparse
+import os
+import statistics
+import sys
+import tempfile
+import time
+
+os.environ.setdefault("MESA_SHADER_CACHE_DISABLE", "true")     # before any GL context: every link compiles
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, ROOT)
+
+from mtlxgen import emit  # noqa: E402
+from mtlxgen.diagnostics import Loc, MtlxError  # noqa: E402
+from mtlxgen.view import Generated, GlfwWindow, OffscreenWindow, OurGenerator, Viewer  # noqa: E402
+
+DOC = """<?xml version="1.0"?>
+<materialx version="1.39">
+  <checkerboard name="chk" type="color3">
+    <input name="color1" type="color3" value="0.9, 0.5, 0.1" />
+    <input name="uvtiling" type="vector2" value="8, 8" />
+  </checkerboard>
+  {node}
+  <standard_surface name="SR" type="surfaceshader">
+    <input name="base_color" type="color3" {base_color} />
+    <input name="specular_roughness" type="float" value="0.3" />
+    <input name="metalness" type="float" value="0.2" />
+    <input name="coat" type="float" value="0.4" />
+  </standard_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+class MaterialXGenerator:
+    """MaterialX's GenGlsl (the `materialx` wheel) behind the viewer's generator interface."""
+
+    def __init__(self):
+        from mtlxgen.reference import MaterialXReference
+        self.ref = MaterialXReference()
+
+    def open(self, path, environment):
+        try:
+            return path, self.ref.load(path)
+        except Exception as e:
+            raise MtlxError((Loc(path, 0), "MaterialX could not read it: %s" % e)) from None
+
+    def elements(self, handle):
+        return [e.getNamePath() for e in self.ref.mx_gen.findRenderableElements(handle[1])]
+
+    def shader(self, handle, name):
+        path, doc = handle
+        vs, fs, textures, _ = self.ref.generate(path, name, doc=doc)
+        manifest = {"textures": [{"uniform": k, "file": v} for k, v in sorted(textures.items())]}
+        return Generated(name, emit.file_stem(name), vs, fs, manifest)
+
+    def files(self, handle):
+        return {os.path.abspath(handle[0])}
+
+
+def write(path, text):
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def state(kind, i):
+    """The document of edit i: a value not used before, or base_color fed by a node of a name not used before."""
+    if kind == "value":
+        return DOC.format(node="", base_color='value="%.3f, 0.3, 0.2"' % (0.1 + 0.01 * i))
+    if i % 2:
+        node = ('<constant name="c%d" type="color3"><input name="value" type="color3" value="0.2, 0.3, 0.2" />'
+                '</constant>' % i)
+    else:
+        node = ('<multiply name="m%d" type="color3"><input name="in1" type="color3" nodename="chk" />'
+                '<input name="in2" type="float" value="0.8" /></multiply>' % i)
+    return DOC.format(node=node, base_color='nodename="%s%d"' % ("c" if i % 2 else "m", i))
+
+
+def measure(generator, window, size, kind, edits, keep_program=True, timeout=120.0):
+    """[seconds from each write to the end of the first frame drawn with its result]."""
+    folder = tempfile.mkdtemp(prefix="mtlxgen_latency_")
+    path = os.path.join(folder, "latency.mtlx")
+    write(path, state(kind, 0))
+    viewer = Viewer(window.ctx, path, size=(size, size), generator=generator, background=True,
+                    out=open(os.devnull, "w"), keep_program=keep_program)
+    out = []
+    try:
+        for i in range(1, edits + 2):                   # the first edit warms up (Python's caches, the driver)
+            deadline = time.time() + timeout
+            while not viewer.converged() and time.time() < deadline:     # a still, converged picture first
+                viewer.frame(window.screen)
+                window.swap()
+            time.sleep(0.05)
+            generation = viewer.generation
+            t0 = time.perf_counter()
+            write(path, state(kind, i))
+            while time.time() < deadline:         # the viewer's own loop (view.run): poll, frame, swap
+                window.poll()
+                viewer.frame(window.screen)
+                if viewer.generation > generation and viewer.shown_generation == viewer.generation \
+                        and not viewer.reloader.busy():
+                    window.ctx.finish()
+                    t1 = time.perf_counter()
+                    window.swap()
+                    break
+                window.swap()
+            else:
+                raise RuntimeError("no reload within %.0f s (problems: %s)" % (timeout, viewer.problems))
+            if viewer.problems:
+                raise RuntimeError("; ".join(viewer.problems))
+            if i > 1:
+                out.append(t1 - t0)
+    finally:
+        viewer.close()
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--edits", type=int, default=10)
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--kind", choices=("value", "connection", "both"), default="both")
+    ap.add_argument("--offscreen", action="store_true", help="an offscreen framebuffer even where a display is")
+    args = ap.parse_args()
+    window = OffscreenWindow((args.size, args.size)) if args.offscreen or not os.environ.get("DISPLAY") \
+        else GlfwWindow((args.size, args.size))
+    print("renderer: %s (%s)" % (window.ctx.info.get("GL_RENDERER", "?"), type(window).__name__))
+    kinds = ("value", "connection") if args.kind == "both" else (args.kind,)
+    try:
+        mx = MaterialXGenerator()
+        runs = [("mtlxgen", OurGenerator(), True), ("MaterialX", mx, True), ("MaterialX, relink always", mx, False)]
+        print("%-11s %-26s %10s %10s %10s" % ("edit", "generator", "median ms", "min ms", "max ms"))
+        for kind in kinds:
+            medians = {}
+            for name, gen, keep in runs:
+                t = measure(gen, window, args.size, kind, args.edits, keep_program=keep)
+                medians[name] = statistics.median(t)
+                print("%-11s %-26s %10.1f %10.1f %10.1f" % (kind, name, 1000 * medians[name], 1000 * min(t),
+                                                            1000 * max(t)))
+            for name, _, _ in runs[1:]:
+                print("%-11s ratio mtlxgen / %s: %.2f" % (kind, name, medians["mtlxgen"] / medians[name]))
+    finally:
+        window.close()
+
+
+if __name__ == "__main__":
+    main()
