@@ -11,8 +11,9 @@ Two kinds of edit of a standard_surface material, N each (default 10), each givi
   connection  its base_color fed by a node of a new name (a multiply of a checkerboard, then a constant, in
               turn): new text, linked anew.
 Three rows each: mtlxgen; MaterialX's GenGlsl in the same viewer (the same text comparison: its value edits
-keep the program too); and MaterialX's GenGlsl relinking on every change, as MaterialXView does. The medians
-are printed with the ratios of ours to each. Mesa's shader cache is turned off (MESA_SHADER_CACHE_DISABLE) so
+keep the program too); and MaterialX's GenGlsl relinking on every change, as MaterialXView does. The runs
+take turns, edit by edit, so the machine's load falls on them alike. The medians are printed with the
+ratios of ours to each. Mesa's shader cache is turned off (MESA_SHADER_CACHE_DISABLE) so
 that a link is a compile, as for an edit never seen before. A glfw window where a display is (run it under
 `xvfb-run -a` on machines without one), else an offscreen framebuffer (--offscreen forces it). On machines
 without a GPU this measures Mesa's llvmpipe; run it where a GPU is lent for the hardware figure. Timings only.
@@ -96,42 +97,53 @@ def state(kind, i):
     return DOC.format(node=node, base_color='nodename="%s%d"' % ("c" if i % 2 else "m", i))
 
 
-def measure(generator, window, size, kind, edits, keep_program=True, timeout=120.0):
-    """[seconds from each write to the end of the first frame drawn with its result]."""
-    folder = tempfile.mkdtemp(prefix="mtlxgen_latency_")
-    path = os.path.join(folder, "latency.mtlx")
-    write(path, state(kind, 0))
-    viewer = Viewer(window.ctx, path, size=(size, size), generator=generator, background=True,
-                    out=open(os.devnull, "w"), keep_program=keep_program)
-    out = []
+def one_edit(viewer, window, path, text, timeout=120.0):
+    """Seconds from writing `text` to `path` to the end of the first frame drawn with its result."""
+    deadline = time.time() + timeout
+    while not viewer.converged() and time.time() < deadline:       # a still, converged picture first
+        viewer.frame(window.screen)
+        window.swap()
+    time.sleep(0.05)
+    generation = viewer.generation
+    t0 = time.perf_counter()
+    write(path, text)
+    while time.time() < deadline:          # the viewer's own loop (view.run): poll, frame, swap
+        window.poll()
+        viewer.frame(window.screen)
+        if viewer.generation > generation and viewer.shown_generation == viewer.generation \
+                and not viewer.reloader.busy():
+            window.ctx.finish()
+            t1 = time.perf_counter()
+            window.swap()
+            break
+        window.swap()
+    else:
+        raise RuntimeError("no reload within %.0f s (problems: %s)" % (timeout, viewer.problems))
+    if viewer.problems:
+        raise RuntimeError("; ".join(viewer.problems))
+    return t1 - t0
+
+
+def measure(runs, window, size, kind, edits):
+    """{run name: [latency of each edit]}; the runs take turns edit by edit (the machine's load shared alike)."""
+    viewers = []
+    for name, generator, keep in runs:
+        folder = tempfile.mkdtemp(prefix="mtlxgen_latency_")
+        path = os.path.join(folder, "latency.mtlx")
+        write(path, state(kind, 0))
+        viewer = Viewer(window.ctx, path, size=(size, size), generator=generator, background=True,
+                        out=open(os.devnull, "w"), keep_program=keep, samples=16)      # converged in a frame
+        viewers.append((name, viewer, path))
+    out = {name: [] for name, _, _ in viewers}
     try:
-        for i in range(1, edits + 2):                   # the first edit warms up (Python's caches, the driver)
-            deadline = time.time() + timeout
-            while not viewer.converged() and time.time() < deadline:     # a still, converged picture first
-                viewer.frame(window.screen)
-                window.swap()
-            time.sleep(0.05)
-            generation = viewer.generation
-            t0 = time.perf_counter()
-            write(path, state(kind, i))
-            while time.time() < deadline:         # the viewer's own loop (view.run): poll, frame, swap
-                window.poll()
-                viewer.frame(window.screen)
-                if viewer.generation > generation and viewer.shown_generation == viewer.generation \
-                        and not viewer.reloader.busy():
-                    window.ctx.finish()
-                    t1 = time.perf_counter()
-                    window.swap()
-                    break
-                window.swap()
-            else:
-                raise RuntimeError("no reload within %.0f s (problems: %s)" % (timeout, viewer.problems))
-            if viewer.problems:
-                raise RuntimeError("; ".join(viewer.problems))
-            if i > 1:
-                out.append(t1 - t0)
+        for i in range(1, edits + 2):           # the first edit warms up (Python's caches, the driver)
+            for name, viewer, path in viewers:
+                t = one_edit(viewer, window, path, state(kind, i))
+                if i > 1:
+                    out[name].append(t)
     finally:
-        viewer.close()
+        for _, viewer, _ in viewers:
+            viewer.close()
     return out
 
 
@@ -151,10 +163,9 @@ def main():
         runs = [("mtlxgen", OurGenerator(), True), ("MaterialX", mx, True), ("MaterialX, relink always", mx, False)]
         print("%-11s %-26s %10s %10s %10s" % ("edit", "generator", "median ms", "min ms", "max ms"))
         for kind in kinds:
-            medians = {}
-            for name, gen, keep in runs:
-                t = measure(gen, window, args.size, kind, args.edits, keep_program=keep)
-                medians[name] = statistics.median(t)
+            times = measure(runs, window, args.size, kind, args.edits)
+            medians = {name: statistics.median(t) for name, t in times.items()}
+            for name, t in times.items():
                 print("%-11s %-26s %10.1f %10.1f %10.1f" % (kind, name, 1000 * medians[name], 1000 * min(t),
                                                             1000 * max(t)))
             for name, _, _ in runs[1:]:

@@ -1112,6 +1112,8 @@ def open_window(size, headless):
     try:
         return GlfwWindow(size)
     except ImportError:
+        if headless:
+            return OffscreenWindow(size)
         raise MtlxError((Loc("mtlxgen view", 0), "the viewer needs glfw (pip install 'mtlxgen[view]')")) from None
     except Exception as e:
         if headless:
@@ -1149,7 +1151,7 @@ def run(args):
         while not window.should_close():
             viewer.resize(*window.framebuffer_size())
             idle = viewer.converged() and not viewer.reloader.busy() and not headless
-            window.poll(0.05 if idle else 0.0)
+            window.poll(0.25 if idle else 0.0)     # events, file changes and reloads wake it sooner
             viewer.frame(window.screen)
             if panel is not None and viewer.show_panel:
                 panel.draw(window.screen)

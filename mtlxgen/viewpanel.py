@@ -304,15 +304,19 @@ class Panel:
 
     def build(self):
         imgui, v = self.imgui, self.viewer
-        imgui.set_next_window_pos((8, 8), imgui.Cond_.first_use_ever)
-        imgui.set_next_window_size((360, min(560, max(200, v.size[1] - 16))), imgui.Cond_.first_use_ever)
+        width = 290                 # at the right edge, clear of the object in the middle
+        display_w = imgui.get_io().display_size.x
+        imgui.set_next_window_pos((max(display_w - width - 8, 8), 8), imgui.Cond_.first_use_ever)
+        imgui.set_next_window_size((width, min(620, max(200, imgui.get_io().display_size.y - 16))),
+                                   imgui.Cond_.first_use_ever)
         imgui.begin("%s##panel" % os.path.basename(v.display_path))
+        imgui.push_item_width(imgui.get_window_width() * 0.5)      # room for the labels beside the widgets
         if v.elements:
             current = v.elements.index(v.element) if v.element in v.elements else 0
             changed, index = imgui.combo("element", current, v.elements)
             if changed and index != current:
                 v.cycle_element(index - current)
-        imgui.text("%s environment, %s" % (v.environment_method, v.sample_status()))
+        imgui.text("%s: %s" % (v.environment_method, v.sample_status()))
         imgui.text("frame %.1f ms" % (v.frame_time * 1000.0))
         for line in v.problems:
             imgui.text_colored(imgui.ImVec4(1.0, 0.45, 0.4, 1.0), line)
@@ -338,6 +342,7 @@ class Panel:
             if imgui.collapsing_header(group, imgui.TreeNodeFlags_.default_open if k == 0 or len(groups) <= 3 else 0):
                 for item in items:
                     self._widget(item)
+        imgui.pop_item_width()
         imgui.end()
 
     def draw(self, target):

@@ -149,6 +149,7 @@ def test_camera_and_geometry(viewer):
 
 
 def test_mesh_file_through_trimesh(tmp_path, viewer):
+    pytest.importorskip("trimesh", reason="mesh files need trimesh (pip install 'mtlxgen[view]')")
     obj = tmp_path / "quad.obj"
     obj.write_text("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
                    "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")

@@ -38,6 +38,8 @@ DOC = """<?xml version="1.0"?>
 @pytest.fixture(scope="module")
 def window():
     """A glfw window on an Xvfb display of our own; DISPLAY is this process's only while the window is open."""
+    pytest.importorskip("glfw", reason="the viewer's window needs glfw (pip install 'mtlxgen[view]')")
+    pytest.importorskip("watchdog", reason="hot reload needs watchdog (pip install 'mtlxgen[view]')")
     display = start_xvfb()
     saved = {k: os.environ.get(k) for k in ("DISPLAY", "WAYLAND_DISPLAY")}
     os.environ["DISPLAY"] = display.name
@@ -167,6 +169,7 @@ def test_texture_edit_reads_the_texture_again(tmp_path, window):
 def test_panel_sets_a_value_and_saves_it(tmp_path, window):
     """The property panel: a colour set on the linked program (no relink); Save writes it into the document,
     whose reload then draws the same colour from the file; the panel itself is drawn over the picture."""
+    pytest.importorskip("imgui_bundle", reason="the property panel needs imgui-bundle (pip install 'mtlxgen[view]')")
     from mtlxgen.view import Viewer
     from mtlxgen.viewpanel import Panel
     doc = str(tmp_path / "panel.mtlx")
