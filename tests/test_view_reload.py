@@ -202,3 +202,41 @@ def test_panel_sets_a_value_and_saves_it(tmp_path, window):
     finally:
         panel.release()
         viewer.close()
+
+
+def test_window_input_drives_the_camera_and_keys(tmp_path, window):
+    """glfw's callbacks as the window gets them: a left drag orbits, a right drag pans, the wheel zooms, keys act."""
+    import glfw
+    from mtlxgen.view import Viewer
+    doc = str(tmp_path / "input.mtlx")
+    write(doc, DOC.format(extra="", color='value="0.8, 0.1, 0.1"'))
+    viewer = Viewer(window.ctx, doc, size=(SIZE, SIZE), background=False, out=io.StringIO())
+    window.viewer, w = viewer, window.window
+    try:
+        window._on_cursor(w, 10.0, 10.0)
+        window._on_button(w, glfw.MOUSE_BUTTON_LEFT, glfw.PRESS, 0)
+        window._on_cursor(w, 10.0 + SIZE / 4.0, 10.0)          # a quarter of the height: an eighth of a turn
+        window._on_button(w, glfw.MOUSE_BUTTON_LEFT, glfw.RELEASE, 0)
+        assert abs(viewer.camera.yaw + np.pi / 4) < 1e-9 and viewer._moved
+        window._on_cursor(w, 30.0, 30.0)                        # no button held: nothing moves
+        assert abs(viewer.camera.yaw + np.pi / 4) < 1e-9
+        window._on_button(w, glfw.MOUSE_BUTTON_RIGHT, glfw.PRESS, 0)
+        window._on_cursor(w, 30.0, 40.0)
+        window._on_button(w, glfw.MOUSE_BUTTON_RIGHT, glfw.RELEASE, 0)
+        assert viewer.camera.target[1] > 0                      # dragged down: the view's centre goes up
+        window._on_scroll(w, 0.0, 2.0)
+        assert abs(viewer.camera.distance - 3 * 0.81) < 1e-9
+        window._on_key(w, glfw.KEY_B, glfw.get_key_scancode(glfw.KEY_B), glfw.PRESS, 0)
+        assert viewer.background
+        window._on_key(w, glfw.KEY_TAB, 0, glfw.PRESS, 0)
+        assert viewer.element == "M_other"
+        window._on_key(w, glfw.KEY_TAB, 0, glfw.PRESS, glfw.MOD_SHIFT)
+        assert viewer.element == "M_red"
+        window._on_key(w, glfw.KEY_F, glfw.get_key_scancode(glfw.KEY_F), glfw.PRESS, 0)
+        assert viewer.camera.yaw == 0 and viewer.camera.distance == 3 and not viewer.camera.target.any()
+        window._on_key(w, glfw.KEY_ESCAPE, 0, glfw.PRESS, 0)
+        assert window.should_close()
+    finally:
+        glfw.set_window_should_close(window.window, False)
+        window.viewer = None
+        viewer.close()
