@@ -63,6 +63,9 @@ _LOBE = "BSDF(mg_microfacet_reflection(mg_L, mg_V, mg_tangent_frame({{normal}}, 
 TURQUIN = ("the node multiplies the lobe by 1 + F0 (1 - E(n.v)) / E(n.v) (the scaling form of multiple-scattering "
            "compensation, Turquin 2019), a function of the view angle alone: not reciprocal by design; the GGX "
            "lobe itself is asserted below")
+TURQUIN_CURVE = ("the node multiplies the lobe by 1 + F(n.v) (1 - E(n.v)) / E(n.v) (the scaling form of multiple-scattering "
+                 "compensation, Turquin 2019, with the Fresnel curve at the view angle as MaterialX's), a function of "
+                 "the view angle alone: not reciprocal by design; the GGX lobe itself is asserted below")
 
 CASES = [
     RCase("oren_nayar_diffuse_bsdf", "oren_nayar_diffuse_bsdf", _rough(), True,
@@ -86,7 +89,7 @@ CASES = [
           [("r=%g" % r, {"roughness_R": (r, r), "roughness_TT": (r, r), "roughness_TRT": (r, r)}) for r in ROUGH[1:]],
           False, "Chiang et al. 2016: the azimuthal offset h belongs to the view ray (here from V's azimuth) and "
                  "cuticle tilts shift theta_o only: not reciprocal"),
-    RCase("dielectric_bsdf", "dielectric_bsdf", _rough_ior(), False, TURQUIN),
+    RCase("dielectric_bsdf", "dielectric_bsdf", _rough_ior(), False, TURQUIN_CURVE),
     RCase("conductor_bsdf", "conductor_bsdf", _rough(vec2=True), False, TURQUIN),
     RCase("generalized_schlick_bsdf", "generalized_schlick_bsdf",
           _rough(vec2=True, extra={"color0": (0.2, 0.4, 0.6), "color82": (0.9, 0.9, 0.9)}), False, TURQUIN),

@@ -17,8 +17,11 @@ BSDF mg_dielectric_reflection(vec3 L, vec3 V, float weight, vec3 tint, float ior
     vec2 alpha = mg_ggx_alpha(roughness);
     MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
     float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
-    vec3 f = mg_microfacet_reflection(L, V, frame, alpha, fr, retro) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
-    vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
+    // multiple-scattering compensation from the curve at the view angle (as MaterialX's): through a film its
+    // reflectance, and bounded by 1 where F0 = ((n-1)/(n+1))^2 of a negative IOR (a varying one) is not
+    vec3 comp = mg_ggx_energy_compensation(NdotV, alpha, mg_fresnel_eval(fr, NdotV));
+    vec3 f = mg_microfacet_reflection(L, V, frame, alpha, fr, retro) * comp;
+    vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * comp;
     return BSDF(f * tint * weight, 1.0 - weight * E);
 }
 
@@ -31,8 +34,9 @@ BSDF mg_dielectric_indirect(vec3 V, float weight, vec3 tint, float ior, vec2 rou
     vec2 alpha = mg_ggx_alpha(roughness);
     MgFresnel fr = mg_fresnel_dielectric_model(ior, film_thickness, film_ior);
     float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
-    vec3 Li = mg_env_specular(V, frame, alpha, fr, retro) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
-    vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * mg_ggx_energy_compensation(NdotV, alpha, fr.F0);
+    vec3 comp = mg_ggx_energy_compensation(NdotV, alpha, mg_fresnel_eval(fr, NdotV));
+    vec3 Li = mg_env_specular(V, frame, alpha, fr, retro) * comp;
+    vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * comp;
     return BSDF(Li * tint * weight, 1.0 - weight * E);
 }
 

@@ -54,7 +54,5 @@ vec3 mg_fresnel_eval(MgFresnel f, float cosTheta)
         return mg_thin_film_over_ior(cosTheta, f.film_ior, f.film_thickness, f.ior, vec3(0.0));
     if (f.model == MG_FRESNEL_CONDUCTOR)
         return mg_thin_film_over_ior(cosTheta, f.film_ior, f.film_thickness, f.ior, f.extinction);
-    float c2 = mg_thin_film_cos2(cosTheta, f.film_ior);
-    vec3 R23 = mg_fresnel_schlick(c2, f.F0, f.F90, f.exponent);
-    return mg_thin_film_reflectance(cosTheta, f.film_ior, f.film_thickness, R23, MG_PI);
+    return mg_thin_film_over_schlick(cosTheta, f.film_ior, f.film_thickness, f.F0, f.F82, f.F90, f.exponent);
 }

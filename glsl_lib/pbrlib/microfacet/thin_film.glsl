@@ -4,7 +4,8 @@
 // mg_thin_film_airy: per polarization (s, p), with the reflection phase of each interface from its
 // complex Fresnel amplitude, summed in CIE XYZ and brought to RGB by the paper's XYZ -> CIE RGB (E)
 // matrix; the base's colour enters per XYZ component (component j from the base's channel j).
-// mg_thin_film_reflectance is the older polarization-averaged form, kept for its callers.
+// mg_thin_film_over_ior: a dielectric or conductor base; mg_thin_film_over_schlick: a generalized Schlick base.
+// mg_thin_film_reflectance is the older polarization-averaged form, kept for Enterprise PBR's film.
 
 // Fourier transform of the CIE XYZ sensitivities for optical path difference opd (nm) and phase
 // shift (Belcour & Barla 2017, supplemental: Gaussian fits of the colour matching functions).
@@ -108,6 +109,7 @@ void mg_thin_film_base(float cos2, float n1, vec3 eta, vec3 k, out vec3 Rs, out 
 // The first interface's phase on the way back up is pi minus its phase going in (Stokes relations).
 vec3 mg_thin_film_airy(float cos1, float eta2, float thickness, vec3 R23s, vec3 R23p, vec3 phi23s, vec3 phi23p)
 {
+    eta2 = max(eta2, 1.0);              // a film rarer than the air outside reads as air (see mg_thin_film_over_ior)
     float c1 = clamp(cos1, 0.0, 1.0);
     float cos2 = mg_thin_film_cos2(c1, eta2);
     vec2 r12[2];
@@ -137,10 +139,37 @@ vec3 mg_thin_film_airy(float cos1, float eta2, float thickness, vec3 R23s, vec3 
                       -0.4706338, 0.0885814, 1.0093968) * I, 0.0, 1.0);
 }
 
-// Film over a base of complex IOR eta + i k per channel (k = 0: a dielectric).
+// Film over a base of complex IOR eta + i k per channel (k = 0: a dielectric). A film IOR below the outside
+// air's 1 (a varying one driven low) is read as 1, as MaterialX reads it: taken as given, light from outside
+// would be totally reflected beyond sin = eta2, a bright ring inside the sphere; at 1 the film vanishes and the
+// base's own curve remains.
 vec3 mg_thin_film_over_ior(float cos1, float eta2, float thickness, vec3 eta, vec3 k)
 {
+    eta2 = max(eta2, 1.0);
     vec3 Rs, Rp, phis, phip;
     mg_thin_film_base(mg_thin_film_cos2(clamp(cos1, 0.0, 1.0), eta2), eta2, eta, k, Rs, Rp, phis, phip);
     return mg_thin_film_airy(cos1, eta2, thickness, Rs, Rp, phis, phip);
+}
+
+// Film over a generalized Schlick base (generalized_schlick_bsdf; MaterialX PBR spec, Thin-Film Iridescence
+// Model): the base's curve (F82 tint included) at the refraction cosine in the film is the film-base
+// reflectance of both polarizations, and the phase there is a step, from the base IOR that color0 gives by
+// the Schlick-to-IOR inversion (F0 held to [0.01, 0.99]). In the amplitude convention of mg_fresnel_amplitudes
+// (r_p = -r_s head-on) that step is pi for s and 0 for p on a base denser than the film, 0 and pi on a rarer
+// one, as the exact dielectric gives below its Brewster angle.
+// MG_THIN_FILM_SCHLICK_R23: the share of the curve each polarization takes. 1 as the spec says: a film of IOR 1
+// then leaves the base's curve unchanged, and a film over a perfect mirror (color0 = color90 = 1) reflects
+// everything. MaterialX 1.39's GLSL takes 0.5 (docs/differences: thin_film_schlick).
+#ifndef MG_THIN_FILM_SCHLICK_R23
+#define MG_THIN_FILM_SCHLICK_R23 1.0
+#endif
+vec3 mg_thin_film_over_schlick(float cos1, float eta2, float thickness, vec3 F0, vec3 F82, vec3 F90, float exponent)
+{
+    eta2 = max(eta2, 1.0);
+    float cos2 = mg_thin_film_cos2(clamp(cos1, 0.0, 1.0), eta2);
+    vec3 R23 = MG_THIN_FILM_SCHLICK_R23 * mg_fresnel_schlick_f82(cos2, F0, F82, F90, exponent);
+    vec3 s = sqrt(clamp(F0, 0.01, 0.99));
+    vec3 eta3 = (1.0 + s) / (1.0 - s);
+    vec3 phi23s = mix(vec3(MG_PI), vec3(0.0), lessThan(eta3, vec3(eta2)));
+    return mg_thin_film_airy(cos1, eta2, thickness, R23, R23, phi23s, MG_PI - phi23s);
 }
