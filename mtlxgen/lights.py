@@ -27,6 +27,8 @@ def load_light_rig(path):
             port = node.inputs.get(member)
             if port is not None and port.connected:
                 raise MtlxError((port.loc, "light '%s': input '%s' must be a value in a light rig" % (name, member)))
+            if port is not None and port.error:          # a value that does not parse: not the default in silence
+                raise MtlxError((port.loc, port.error))
             value = port.value if port is not None and port.value is not None else default
             light[member] = tuple(float(v) for v in value) if isinstance(default, tuple) else float(value)
         lights.append(light)

@@ -240,3 +240,35 @@ def test_window_input_drives_the_camera_and_keys(tmp_path, window):
         glfw.set_window_should_close(window.window, False)
         window.viewer = None
         viewer.close()
+
+
+def test_included_file_and_light_rig_are_watched(tmp_path, window):
+    """An edit of a file the document includes regenerates; an edit of the light rig rebinds its lights."""
+    from mtlxgen.view import Viewer
+    part = tmp_path / "part.mtlx"
+    part.write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n  <constant name="n" type="color3">\n'
+                    '    <input name="value" type="color3" value="0.3, 0.3, 0.9" />\n  </constant>\n</materialx>\n')
+    doc = str(tmp_path / "main.mtlx")
+    write(doc, DOC.format(extra='<xi:include href="part.mtlx" />', color='nodename="n"').replace(
+        '<materialx version="1.39">', '<materialx version="1.39" xmlns:xi="http://www.w3.org/2001/XInclude">'))
+    rig = tmp_path / "rig.mtlx"
+    light = ('<?xml version="1.0"?>\n<materialx version="1.39">\n  <directional_light name="sun" type="lightshader">\n'
+             '    <input name="intensity" type="float" value="%s" />\n  </directional_light>\n</materialx>\n')
+    rig.write_text(light % "2")
+    out = io.StringIO()
+    viewer = Viewer(window.ctx, doc, size=(SIZE, SIZE), background=False, lights_file=str(rig), out=out)
+    try:
+        run_until(viewer, window, lambda: viewer.frames >= 1)
+        assert np.allclose(centre(viewer), [0.3, 0.3, 0.9], atol=1e-3) and viewer.rig[0]["intensity"] == 2.0
+        g = viewer.generation
+        part.write_text(part.read_text().replace("0.3, 0.3, 0.9", "0.9, 0.3, 0.3"))
+        run_until(viewer, window, reloaded(viewer, g))
+        assert np.allclose(centre(viewer), [0.9, 0.3, 0.3], atol=1e-3)
+        rig.write_text(light % "5")
+        run_until(viewer, window, lambda: viewer.rig[0]["intensity"] == 5.0)
+        rig.write_text(light % "five")
+        run_until(viewer, window, lambda: viewer.rig_problems != [])
+        assert viewer.rig_problems[0].startswith("%s:4: " % rig) and viewer.rig_problems[0] in out.getvalue()
+        assert viewer.rig[0]["intensity"] == 5.0                  # the last good rig still bound
+    finally:
+        viewer.close()
