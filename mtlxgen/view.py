@@ -591,11 +591,8 @@ class Viewer:
                 self.say(line)
         self.warnings = list(r.warnings)
         self.problems = problems
-        if self.watcher is not None:
-            watched = set(r.files) | {os.path.abspath(self.path)}
-            watched |= set(self.texture_files())
-            watched |= {f for f in (self.lights_file, self.env_file) if f}
-            self.watcher.watch(watched)
+        self._files = set(r.files) | {os.path.abspath(self.path)}
+        self._rewatch()
         if r.changed_at:
             self.last_reload = (time.perf_counter() - r.changed_at, ", ".join(w for w in what if w) or "problems")
         self.changed()
@@ -637,6 +634,12 @@ class Viewer:
             set_uniform(prepared.prog, k, v)
         self.loaded[name] = Loaded(g, prepared, overrides=overrides)
         return "%s: linked" % name
+
+    def _rewatch(self):
+        """Watch the document's files, the textures of the elements linked so far, the rig and the map."""
+        if self.watcher is not None:
+            watched = set(getattr(self, "_files", ())) | {os.path.abspath(self.path)} | self.texture_files()
+            self.watcher.watch(watched | {f for f in (self.lights_file, self.env_file) if f})
 
     @staticmethod
     def _same_bindings(a, b):
@@ -693,6 +696,7 @@ class Viewer:
         if (loaded is None or loaded.stale) and self.session is not None and name in self.elements:
             try:
                 self._install(name, self.generator.shader(self.session, name))
+                self._rewatch()
             except MtlxError as e:
                 if e.lines() != self.problems:
                     self.problems = e.lines()
