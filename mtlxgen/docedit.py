@@ -269,6 +269,10 @@ def save_values(edits):
         if loc is None or not loc.file:
             raise MtlxError((Loc("<document>", 0), "input '%s' of '%s' is not written in a file: not saved"
                              % (item.input, item.node)))
+        from .usdstage import is_usd
+        if loc.where is not None or is_usd(loc.file):
+            raise MtlxError((loc, "input '%s' of '%s': values are saved into .mtlx documents only, not into "
+                                  "a USD stage" % (item.input, item.node)))
         by_file.setdefault(loc.file, []).append((item, value))
     written = []
     texts = {}

@@ -120,3 +120,22 @@ def test_format_value():
     assert docedit.format_value("boolean", True) == "true"
     assert docedit.format_value("filename", "a&b.png") == "a&b.png"
     assert docedit._escape(docedit.format_value("filename", 'a&"b.png')) == "a&amp;&quot;b.png"
+
+
+def test_a_usd_stage_is_not_written(tmp_path):
+    """The panel edits a USD stage's inputs live; Save refuses them, one line at the attribute, file untouched."""
+    pytest.importorskip("pxr", reason="USD stages need usd-core")
+    import shutil
+    stage = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "usd")
+    for name in ("preview_stage.usda", "leaf_ga.png", "stripes_r.png"):
+        shutil.copy(os.path.join(stage, name), str(tmp_path / name))
+    path = str(tmp_path / "preview_stage.usda")
+    s = pipeline.Session(path)
+    items = docedit.public_inputs(s, s.elements[0])
+    assert items
+    before = open(path).read()
+    with pytest.raises(MtlxError) as e:
+        docedit.save_values([(items[0], items[0].value)])
+    assert len(e.value.lines()) == 1 and "saved into .mtlx documents only" in e.value.lines()[0]
+    assert e.value.lines()[0].startswith(path + ":/")
+    assert open(path).read() == before
