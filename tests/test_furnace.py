@@ -102,8 +102,9 @@ def _uber(category, inputs, bsdf_out=False):
 W = "1,1,1"
 R0 = lambda label: label.startswith("r=0 ") or label == "r=0"   # noqa: E731  (Lambert limit)
 
-GGX_SS = ("single-scattering GGX (Walter 2007) loses the energy of multiple bounces between microfacets at "
-          "high roughness; only the upper bound applies")
+CAPPED_T = ("the transmitted share is MaterialX's estimate (the visible microfacets' mean of 1 - F(v.h), over the "
+            "masking G1(v)) held to 1 - what the same samples reflect: R + T <= 1 at every pixel, 1 where the cap binds "
+            "(rough, towards the rim)")
 
 ARTISTIC = ("artistic IOR (Gulbrandsen 2014) is finite only for reflectivity < 1: clamped to 0.99, F0 = 0.99 and the compensated multiple bounces absorb more (1-2.3%); not exactly non-absorbing, so upper bound (and > 0.97)")
 
@@ -155,7 +156,7 @@ CASES = [
          "compensated GGX reflection (Kulla & Conty 2017) over a white base by albedo scaling"),
     Case("dielectric_bsdf RT", _bsdf("dielectric_bsdf", [("scatter_mode", "string", "RT")]),
          _rough_ior_sweep("b_roughness", "b_ior", vec2=True), False,
-         "the transmission lobe is single-scattering GGX (Walter 2007): " + GGX_SS),
+         CAPPED_T + "; below 1 towards head-on, where the estimate falls short of it: only the upper bound applies"),
     Case("conductor_bsdf (white, eta=0)", _bsdf("conductor_bsdf", [("ior", "color3", "0,0,0"),
                                                                     ("extinction", "color3", W)]),
          _rough_sweep("b_roughness", vec2=True), True,
@@ -180,7 +181,9 @@ CASES = [
     Case("standard_surface (transmission)", _uber("standard_surface", [
         ("transmission", "float", "1"), ("transmission_color", "color3", W)]),
          _rough_ior_sweep("u_specular_roughness", "u_specular_IOR"), False,
-         "rough transmission is single-scattering GGX: " + GGX_SS, element="u"),
+         "the specular layer's throughput 1 - E over a transmission that carries the interface's 1 - F already "
+         "(MaterialX's graph counts the interface twice): E + (1 - E) T, -16% at ior 2.5, r = 0; T as in "
+         "dielectric_bsdf RT; only the upper bound applies", element="u"),
     Case("open_pbr_surface (dielectric)", _uber("open_pbr_surface", [
         ("base_weight", "float", "1"), ("base_color", "color3", W), ("specular_weight", "float", "1")]),
          _rough_ior_sweep("u_specular_roughness", "u_specular_ior"), True,
@@ -217,9 +220,9 @@ CASES = [
          _rough_sweep("u_roughness"), False, ARTISTIC, element="s", floor=0.97),
     Case("lama_dielectric", _uber("LamaDielectric", [("fresnelMode", "integer", "1"), ("absorptionColor", "color3", "0,0,0")], bsdf_out=True),
          _rough_ior_sweep("u_roughness", "u_IOR"), False,
-         "absorptionColor 0 (it is an absorption coefficient in the graph); single-scattering GGX transmission "
-         "(" + GGX_SS + "), and layering the R node over the T node applies 1 - E twice (R's throughput times T's "
-         "refracted share): -16% at ior 2.5, r = 0", element="s"),
+         "absorptionColor 0 (it is an absorption coefficient in the graph); layering the R node over the T node "
+         "applies 1 - E twice (R's throughput times T's refracted share, T as in dielectric_bsdf RT): -16% at "
+         "ior 2.5, r = 0", element="s"),
     Case("lama_sheen", _uber("LamaSheen", [("color", "color3", W)], bsdf_out=True),
          _rough_sweep("u_roughness"), False, "a sheen lobe alone reflects its albedo E < 1", element="s"),
 ]

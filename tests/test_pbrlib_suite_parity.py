@@ -21,7 +21,6 @@ DIFFERENCES = {
     ("flake_surfaceshader", "flake_surfaceshader"): "flake_surfaceshader.png",
     ("lama_sheen", "LamaSheenTest"): "LamaSheenTest.png",
     ("mapped_surfaceshader", "UnitMappedShaderMaterial"): "UnitMappedShaderMaterial.png",
-    ("transparency_hints", "transp_hint"): "transp_hint.png",
 }
 
 
@@ -52,9 +51,10 @@ def test_every_listed_difference_is_documented_with_an_image():
         assert "`%s/" % doc in readme and element.split("/")[0] in readme, (doc, element)
 
 
-# transp_hint: OpenPBR transmission 0.8 at the default roughness 0.3. MaterialX's rough environment
-# transmission gains energy towards the silhouette (its grazing ring is brighter than a smooth surface's,
-# in a uniform environment brighter than the environment itself); ours does not. Smooth, the two agree.
+# transp_hint: OpenPBR transmission 0.8 at the default roughness 0.3, at parity (with the rest, above). MaterialX's
+# rough environment transmission gains energy towards the silhouette (in a uniform environment brighter than the
+# environment itself); ours is held to what the interface does not reflect (tests/test_rough_transmission.py),
+# which at this roughness touches too few pixels to break parity. Smooth, the two agree.
 
 def _transp_hint(tmp_path, roughness):
     src = os.path.join(DATA_TESTSUITE, "pbrlib", "surfaceshader", "transparency_hints.mtlx")

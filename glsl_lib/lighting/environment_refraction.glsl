@@ -1,38 +1,88 @@
 // requires: constants.glsl lighting/environment.glsl lighting/environment_specular.glsl
-// Width of the transmitted lobe relative to the interface's roughness: a microfacet tilted by d turns the
-// refracted direction by about (1 - 1/eta) d at normal incidence (Walter et al. 2007, from the refraction
-// half-vector h = -(eta_i i + eta_o o)), where a reflection turns by 2 d; the factor is fitted to
-// MaterialX's renders over eta 1.5 .. 4.4 (at eta 1.5 it is the former fixed half of the roughness).
-#ifndef MG_REFRACTION_SPREAD
-#define MG_REFRACTION_SPREAD 1.5
-#endif
-// Environment seen through a transmitting surface, modelled as a solid sphere of the given IOR: the view
-// ray refracts in at the shading normal (Snell's law), crosses the sphere along a chord and refracts out
-// at the exit normal; read at a mip level that widens with roughness (a prefiltered stand-in for the
-// rough transmission lobe of Walter et al. 2007).
+// Environment seen through a transmitting surface. What is behind it is the environment: the view ray
+// refracts in at a microfacet, crosses a solid sphere of the BSDF's IOR along a chord and refracts out, or,
+// for a thin-walled surface (MaterialX Specification 1.39, surface; OpenPBR 1.1 §geometry: "no refraction"),
+// leaves through a back face parallel to the surface, which bends it back.
+
+// Exit direction of the ray I entering a solid sphere at a point whose outward normal is N: Snell's law in,
+// along the chord to the exit point (the unit sphere's chord from N along R1 ends at N - 2 (R1.N) R1, which is
+// also the exit's outward normal), Snell's law out; a ray held inside by total internal reflection leaves
+// mirrored.
 vec3 mg_refraction_solid_sphere(vec3 I, vec3 N, float ior)
 {
     float eta = max(ior, 1.0e-4);
     vec3 R1 = refract(I, N, 1.0 / eta);
     if (dot(R1, R1) < 1.0e-8)
         return reflect(I, N);
-    vec3 N2 = normalize(N + 2.0 * dot(R1, -N) * R1);      // exit point of the unit sphere's chord
+    vec3 N2 = normalize(N + 2.0 * dot(R1, -N) * R1);
     vec3 R2 = refract(R1, -N2, eta);
     return dot(R2, R2) < 1.0e-8 ? reflect(R1, -N2) : R2;
 }
 
-// A thin-walled surface (MaterialX Specification 1.39, surface; OpenPBR 1.1 §geometry: "no refraction")
-// is a shell whose two interfaces bend the ray back: the view ray passes straight through, spread by both.
-vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, bool thin_walled)
+// Exit direction through a thin shell: in at the microfacet M, out through the back face, parallel to the
+// surface (normal N); M = N gives I itself.
+vec3 mg_refraction_thin_shell(vec3 I, vec3 M, vec3 N, float ior)
 {
-    vec3 T = thin_walled ? -V : mg_refraction_solid_sphere(-V, N, ior);
-    alpha = max(alpha * MG_REFRACTION_SPREAD * abs(1.0 - 1.0 / max(ior, 1.0e-4)), vec2(1.0e-4));
+    float eta = max(ior, 1.0e-4);
+    vec3 R1 = refract(I, M, 1.0 / eta);
+    if (dot(R1, R1) < 1.0e-8)
+        return reflect(I, M);
+    vec3 R2 = refract(R1, N, eta);
+    return dot(R2, R2) < 1.0e-8 ? reflect(R1, N) : R2;
+}
+
+// Transmitted environment radiance, times what the interface lets through. The rough transmission lobe
+// (Walter et al. 2007) is sampled by its microfacets: n visible normals m of the view (Heitz 2018), each
+// sending the view ray through the sphere (or shell) as if m were the surface there, weighted by the
+// share 1 - F(v.m) that facet transmits and read at the mip level of its reflection density (Krivanek &
+// Colbert 2008), as MaterialX's sampler does. MaterialX then divides by the masking G1(v) (its reflection
+// estimator's normalisation), which lifts the transmitted light above what the interface does not reflect
+// towards the silhouette: with the reflection lobe, more than arrives in a white furnace. We keep that
+// estimate where it stays within 1 - R, R what the node's reflection lobe returns of a white environment
+// (the same samples' F G2 / G1, times its energy compensation `comp`), and scale the lobe down to 1 - R
+// elsewhere: the lobe's shape is MaterialX's, its energy capped, and reflection plus transmission never
+// exceed 1 (docs/differences/README.md, rough transmission). The cap's factor depends on the view and the
+// surface only, never on the environment. Define MG_REFRACTION_UNBOUNDED for the estimate without the cap
+// (a comparison switch: tests/test_rough_transmission.py shows it at parity with MaterialX on the whole
+// sphere). MG_REFRACTION_PREFILTERED (the split-sum method): one lookup along the refracted direction at
+// the lobe's level, times `through` (1 - the tabulated reflected albedo).
+vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel fr, vec3 comp, vec3 through,
+                       bool thin_walled)
+{
 #ifdef MG_REFRACTION_PREFILTERED
-    return mg_env_radiance(T, mg_env_lod_prefiltered(T, alpha));
+    vec3 T = thin_walled ? -V : mg_refraction_solid_sphere(-V, N, ior);
+    return mg_env_radiance(T, mg_env_lod_prefiltered(T, alpha)) * through;
 #else
-    // the GGX lobe about T, by the reflection sampler with the normal turned away from the viewer
-    mat3 frame = mg_tangent_frame(-N, Tg);
-    MgFresnel one = mg_fresnel_schlick_model(vec3(1.0), vec3(1.0), vec3(1.0), 5.0, 0.0, 1.5);
-    return mg_env_specular(-reflect(T, N), frame, alpha, one, false);
+    mat3 frame = mg_tangent_frame(N, Tg);
+    vec3 Vt = V * frame;
+    Vt.z = max(Vt.z, 1.0e-4);
+    Vt = normalize(Vt);
+    int n = max(u_envRadianceSamples, 1);
+    float G1V = mg_ggx_G1(Vt, alpha);
+    vec3 sum = vec3(0.0);
+    vec3 share = vec3(0.0);
+    vec3 reflected = vec3(0.0);
+    for (int i = 0; i < n; ++i)
+    {
+        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
+        vec3 Lt = thin_walled ? mg_refraction_thin_shell(-Vt, H, vec3(0.0, 0.0, 1.0), ior)
+                              : mg_refraction_solid_sphere(-Vt, H, ior);
+        float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
+        vec3 L = frame * Lt;
+        vec3 F = mg_fresnel_eval(fr, clamp(dot(Vt, H), 0.0, 1.0));
+        vec3 w = max(1.0 - F, 0.0);
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * w;
+        share += w;
+        // the same sample's reflection, as the node's reflection lobe weighs it (mg_env_specular)
+        vec3 Lr = reflect(-Vt, H);
+        if (Lr.z > 0.0)
+            reflected += F * (mg_ggx_G2(Lr, Vt, alpha) / G1V);
+    }
+#ifdef MG_REFRACTION_UNBOUNDED
+    return sum / (float(n) * G1V);
+#else
+    vec3 bound = max(1.0 - reflected / float(n) * comp, 0.0);
+    return sum / float(n) * min(vec3(1.0 / G1V), bound / max(share / float(n), vec3(1.0e-6)));
+#endif
 #endif
 }

@@ -54,5 +54,6 @@ BSDF mg_dielectric_transmission(vec3 V, float weight, vec3 tint, float ior, vec2
     // the Schlick split's F90 = 1 would not)
     vec3 through = max(1.0 - mg_fresnel_eval(fr, NdotV) * dot(mg_ggx_albedo_split(NdotV, alpha), vec2(1.0))
                              * mg_ggx_energy_compensation(NdotV, alpha, fr.F0), 0.0);
-    return BSDF(mg_env_refraction(V, N, T, ior, alpha, thin_walled) * through * tint * weight, vec3(1.0 - weight));
+    return BSDF(mg_env_refraction(V, N, T, ior, alpha, fr, mg_ggx_energy_compensation(NdotV, alpha, mg_fresnel_eval(fr, NdotV)),
+                                  through, thin_walled) * tint * weight, vec3(1.0 - weight));
 }

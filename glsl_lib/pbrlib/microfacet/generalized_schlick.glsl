@@ -50,5 +50,6 @@ BSDF mg_schlick_transmission(vec3 V, float weight, vec3 color0, vec3 color82, ve
     if (mode == mg_scatter_R)
         return BSDF(vec3(0.0), vec3(1.0 - weight * dot(E, vec3(1.0 / 3.0))));
     vec3 through = 1.0 - E;
-    return BSDF(mg_env_refraction(V, N, T, mg_f0_to_ior(color0), alpha, thin_walled) * through * weight, vec3(1.0 - weight));
+    return BSDF(mg_env_refraction(V, N, T, mg_f0_to_ior(color0), alpha, fr, mg_ggx_energy_compensation(NdotV, alpha, color0),
+                                  through, thin_walled) * weight, vec3(1.0 - weight));
 }
