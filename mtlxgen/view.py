@@ -437,7 +437,6 @@ class Viewer:
                  env_file=None, lights_file=None, geometry="sphere", samples=256, background=True,
                  output_dir=".", watch=True, out=None, progressive=True, frame_samples=FRAME_SAMPLES,
                  keep_program=True):
-        from . import geometry as geom
         self.ctx = ctx
         self.path = os.path.abspath(path)
         self.display_path = path
@@ -462,7 +461,6 @@ class Viewer:
         self.geometry_name = geometry
         self.camera = OrbitCamera()
         self.set_geometry(geometry)
-        self._geom = geom
         self.elements = []
         self.element = element
         self.loaded = {}                    # element -> Loaded
