@@ -834,8 +834,14 @@ class Viewer:
             self._draw_background(camera)
         lights = (self.rig if self.lights_on else [])
         k = self.accumulated
+        if self.background:
+            # the surface over the environment: its colour is already weighted by its opacity (MaterialX's
+            # surface closure), so "over" is premultiplied; a cut-out shows the environment, not a hole
+            ctx.enable(self.renderer.mgl.BLEND)
+            ctx.blend_func = self.renderer.mgl.ONE, self.renderer.mgl.ONE_MINUS_SRC_ALPHA
         self.renderer.draw(loaded.prepared, target=frame, camera=camera, clear=False, env_samples=n,
                            sample_frame=(k, frames) if frames > 1 else (0, 1), lights=lights)
+        ctx.disable(self.renderer.mgl.BLEND)
         ctx.disable(self.renderer.mgl.DEPTH_TEST)
         total.use()
         if k == 0:

@@ -180,3 +180,26 @@ def test_builtin_shapes_face_outwards():
         assert (agree[area > 1e-9] > 0).all(), name                   # counter-clockwise seen from outside
         assert np.allclose(np.linalg.norm(n, axis=1), 1, atol=1e-5)
         assert np.allclose((attrs["i_tangent"] * n).sum(1), 0, atol=1e-5), name
+
+
+def test_cut_out_surface_shows_the_background_not_a_hole(tmp_path):
+    """With the background on, the surface is composited over it (premultiplied): a fully cut-out sphere
+    (opacity 0) leaves the environment visible everywhere, never a transparent black hole."""
+    from mtlxgen import cli
+    doc = tmp_path / "cut.mtlx"
+    doc.write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n'
+                   '<surface_unlit name="u" type="surfaceshader"><input name="opacity" type="float" value="0" />'
+                   '</surface_unlit>\n<surfacematerial name="M" type="material"><input name="surfaceshader" '
+                   'type="surfaceshader" nodename="u" /></surfacematerial>\n</materialx>\n')
+    shot = tmp_path / "cut.png"
+    env = dict(os.environ)
+    try:
+        os.environ.pop("DISPLAY", None)
+        assert cli.main(["view", str(doc), "--size", "48", "48", "--headless-frames", "1",
+                         "--screenshot", str(shot)]) == 0
+    finally:
+        os.environ.clear()
+        os.environ.update(env)
+    img = images.read_image(str(tmp_path / "cut.exr"))
+    centre = img[20:28, 20:28]                      # inside the sphere's silhouette
+    assert np.all(centre[..., 3] > 0.99) and float(centre[..., :3].mean()) > 0.05
