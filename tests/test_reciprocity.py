@@ -63,9 +63,10 @@ _LOBE = "BSDF(mg_microfacet_reflection(mg_L, mg_V, mg_tangent_frame({{normal}}, 
 TURQUIN = ("the node multiplies the lobe by 1 + F0 (1 - E(n.v)) / E(n.v) (the scaling form of multiple-scattering "
            "compensation, Turquin 2019), a function of the view angle alone: not reciprocal by design; the GGX "
            "lobe itself is asserted below")
-TURQUIN_CURVE = ("the node multiplies the lobe by 1 + F(n.v) (1 - E(n.v)) / E(n.v) (the scaling form of multiple-scattering "
-                 "compensation, Turquin 2019, with the Fresnel curve at the view angle as MaterialX's), a function of "
-                 "the view angle alone: not reciprocal by design; the GGX lobe itself is asserted below")
+TURQUIN_CURVE = ("the node multiplies the lobe by 1 + F0 (1 - E(n.v)) / E(n.v) (the scaling form of multiple-scattering "
+                 "compensation, Turquin 2019; the Fresnel curve at the view angle through a film or below an IOR of 1, "
+                 "as MaterialX's), a function of the view angle alone: not reciprocal by design; the GGX lobe itself "
+                 "is asserted below")
 
 CASES = [
     RCase("oren_nayar_diffuse_bsdf", "oren_nayar_diffuse_bsdf", _rough(), True,
