@@ -160,16 +160,20 @@ def _check_document(path):
         raise MtlxError((Loc(path or "<empty path>", 0), problem))
 
 
-def cmd_generate(args):
+def _generate(args):
+    """(shaders that worked, MtlxError or None) for generate and render; warnings printed either way."""
     from . import pipeline
     warnings = Warnings()
     try:
-        shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
-                                           partial=True, usd_seed_rules=args.usd_seed_rules,
-                                           environment=args.environment, usd_options=_usd_options(args),
-                                           strict=args.strict, warnings=warnings)
+        return pipeline.generate(args.file, [args.element] if args.element else None, args.library, partial=True,
+                                 usd_seed_rules=args.usd_seed_rules, environment=args.environment,
+                                 usd_options=_usd_options(args), strict=args.strict, warnings=warnings)
     finally:
         _print_warnings(warnings.lines())
+
+
+def cmd_generate(args):
+    shaders, error = _generate(args)
     for s in shaders:
         paths = s.write(args.output)
         if args.verbose:
@@ -180,18 +184,11 @@ def cmd_generate(args):
 
 
 def cmd_render(args):
-    from . import pipeline, render
+    from . import render
     if args.geometry == "stage" and _usd_options(args) is None:
         raise MtlxError((Loc(args.file, 0), "--geometry stage draws a USD stage's meshes; this is a MaterialX document"))
     # elements with problems are reported, the others drawn (as generate writes them)
-    warnings = Warnings()
-    try:
-        shaders, error = pipeline.generate(args.file, [args.element] if args.element else None, args.library,
-                                           partial=True, usd_seed_rules=args.usd_seed_rules,
-                                           environment=args.environment, usd_options=_usd_options(args),
-                                           strict=args.strict, warnings=warnings)
-    finally:
-        _print_warnings(warnings.lines())
+    shaders, error = _generate(args)
     env = render.load_environment(args.env) if args.env else None
     from .lights import load_light_rig
     lights = load_light_rig(args.lights) if args.lights else ()

@@ -42,8 +42,8 @@ def _one_line(text):
     return text if text.isprintable() else "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)
 
 
-class Problems:
-    """Collects problems during a stage so that one run reports all of them, then raises once."""
+class _Collector:
+    """(Loc, message) items, once per location and message, in the order found."""
 
     def __init__(self):
         self.items = []
@@ -52,39 +52,32 @@ class Problems:
         item = (loc or UNKNOWN, message)
         if item not in self.items:
             self.items.append(item)
-
-    def extend(self, error):
-        for loc, msg in error.problems:
-            self.add(loc, msg)
-
-    def __bool__(self):
-        return bool(self.items)
-
-    def raise_if_any(self):
-        if self.items:
-            raise MtlxError(self.items)
-
-
-class Warnings:
-    """Collects warnings, once per location and message, in the order found. Items are (Loc, message)."""
-
-    def __init__(self):
-        self.items = []
-
-    def add(self, loc, message):
-        item = (loc or UNKNOWN, message)
-        if item not in self.items:
-            self.items.append(item)
-
-    def extend(self, items):
-        for loc, msg in items:
-            self.add(loc, msg)
 
     def __bool__(self):
         return bool(self.items)
 
     def __len__(self):
         return len(self.items)
+
+
+class Problems(_Collector):
+    """Collects problems during a stage so that one run reports all of them, then raises once."""
+
+    def extend(self, error):
+        for loc, msg in error.problems:
+            self.add(loc, msg)
+
+    def raise_if_any(self):
+        if self.items:
+            raise MtlxError(self.items)
+
+
+class Warnings(_Collector):
+    """Collects warnings (slips MaterialX reads on); printed as `FILE:LINE: warning:` lines."""
+
+    def extend(self, items):
+        for loc, msg in items:
+            self.add(loc, msg)
 
     def lines(self):
         return warning_lines(self.items)

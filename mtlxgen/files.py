@@ -13,7 +13,7 @@ Documents come from strangers (downloaded assets, pull requests), so two rules a
 import os
 import stat
 
-from .diagnostics import Loc, MtlxError
+from .diagnostics import MtlxError
 
 MAX_TEXT_BYTES = 32 * 2 ** 20           # one .mtlx, GLSL or IES file: far above any real one
 SYSTEM_FOLDERS = ("/proc", "/sys", "/dev")

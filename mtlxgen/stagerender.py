@@ -168,7 +168,7 @@ def _implicit(prim, time):
 
 
 def _mesh(prim, info, time, problems):
-    from pxr import UsdGeom, UsdShade
+    from pxr import UsdGeom
     if not prim.IsA(UsdGeom.Mesh):
         P, N, UV, tris = _implicit(prim, time)
         groups, elements = _bindings(prim, info, 1, time, np.zeros(len(tris), dtype=np.int64))
@@ -405,7 +405,7 @@ def render_stage(renderer, view, shaders, fallback):
     r.fbo.use()
     ctx.enable(mgl.DEPTH_TEST)
     ctx.clear(0.0, 0.0, 0.0, 0.0)
-    view_proj = view.projection @ view.view
+    camera = _StageCamera(view.eye, view.projection @ view.view)
     programs = {}
     try:
         for mesh in view.meshes:
@@ -423,9 +423,9 @@ def render_stage(renderer, view, shaders, fallback):
                 shader = shader or fallback
                 key = id(shader)
                 if key not in programs:
-                    programs[key] = ctx.program(vertex_shader=shader.vertex, fragment_shader=shader.fragment)
-                prog = programs[key]
-                _bind(r, prog, shader.manifest, world, view_proj, view.eye)
+                    programs[key] = r.prepare(shader.vertex, shader.fragment, shader.manifest, vertex_array=False)
+                prog = programs[key].prog
+                r.bind(programs[key], camera=camera, world=world)
                 if shader is fallback:
                     for u in shader.manifest.get("uniforms", []):
                         if u["name"].endswith("diffuseColor") and u["name"] in prog:
@@ -443,8 +443,8 @@ def render_stage(renderer, view, shaders, fallback):
     finally:
         ctx.disable(mgl.CULL_FACE)
         ctx.front_face = "ccw"
-        for prog in programs.values():
-            prog.release()
+        for prepared in programs.values():
+            prepared.prog.release()
     return np.frombuffer(raw, dtype="f4").reshape(r.size, r.size, 4)[::-1].copy()
 
 
@@ -482,33 +482,13 @@ def _bind_primvars(ctx, prog, manifest, mesh, cache):
     return content
 
 
-def _bind(r, prog, manifest, world, view_proj, eye):
-    """What Renderer.render_timed binds around a shader, with this mesh's matrices and the stage's camera."""
-    units = [("u_envRadiance", r.env), ("u_envIrradiance", r.irradiance)]
-    for tex in manifest.get("textures", []):
-        t = r.image_texture(tex["file"]) if tex.get("file") else None
-        if t is None and tex.get("default") is not None:
-            t = r.constant_texture(tex["default"])
-        if t is not None:
-            units.append((tex["uniform"], t))
-    for unit, (name, t) in enumerate(units):
-        if name in prog:
-            t.use(unit)
-            prog[name].value = unit
-    mats = {"u_worldMatrix": world, "u_viewProjectionMatrix": view_proj,
-            "u_worldInverseTransposeMatrix": np.linalg.inv(world).T}
-    if r.scene.world_inverse:
-        mats["u_worldInverseMatrix"] = np.linalg.inv(world)
-    if r.scene.env_matrix is not None:
-        mats["u_envMatrix"] = np.array(r.scene.env_matrix)
-    for name, m in mats.items():
-        if name in prog:
-            prog[name].write(np.ascontiguousarray(m.T, dtype="f4").tobytes())
-    scalars = {"u_viewPosition": tuple(float(x) for x in eye), "u_envRadianceMips": r.env_mips,
-               "u_envRadianceSamples": r.env_samples, "u_envLightIntensity": 1.0, "u_numActiveLightSources": 0}
-    for name, value in scalars.items():
-        if name in prog:
-            prog[name].value = value
-    if r.lights:
-        from .lights import bind_lights
-        bind_lights(prog, r.lights)
+class _StageCamera:
+    """The stage camera's matrices as render.Renderer.bind reads a camera (the aspect is the stage's own)."""
+
+    def __init__(self, eye, view_projection):
+        self.eye, self._view_projection = eye, view_projection
+
+    def view_projection(self, aspect=1.0):
+        return self._view_projection
+
+

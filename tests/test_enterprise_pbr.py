@@ -15,7 +15,7 @@ import pytest
 from mtlxgen import images, pipeline
 from mtlxgen.emit import read_lib_file
 from mtlxgen import render
-from mtlxgen.render import Renderer, create_context, load_environment
+from mtlxgen.render import Renderer, create_context
 from readme_tables import readme_text, table_differences, table_rows
 from util import write_doc
 

@@ -1182,7 +1182,6 @@ def test_stage_against_materialx_usd_preview_surface(renderer, request, parity_s
 def test_primvars_bound_per_mesh_are_bounded(tmp_path):
     """A material reading more primvars than a mesh binds (stagerender.MAX_VERTEX_PRIMVARS) gets the first ones; each
     other one is a problem line and its reader draws the fallback; a value a 32-bit attribute cannot hold is one too."""
-    from pxr import UsdGeom
     from mtlxgen import stagerender
     n = stagerender.MAX_VERTEX_PRIMVARS + 1
     stage = Usd.Stage.CreateNew(str(tmp_path / "many.usda"))
