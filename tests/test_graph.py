@@ -4,12 +4,10 @@ import pytest
 
 from mtlxgen import document, graph
 from mtlxgen.diagnostics import MtlxError
-from util import write_doc
+from util import build_graph, write_doc
 
 
-def build(tmp_path, body, element, library):
-    path = write_doc(tmp_path, body)
-    return graph.build_graph(document.load(path), library, element)
+build = build_graph
 
 
 def test_nodes_resolve_to_the_nodedef_matching_output_and_input_types(tmp_path, library):

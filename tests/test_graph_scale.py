@@ -6,9 +6,9 @@ import re
 
 import pytest
 
-from mtlxgen import cli, document, graph
+from mtlxgen import cli, graph
 from mtlxgen.diagnostics import MtlxError
-from util import write_doc
+from util import build_graph, write_doc
 
 
 def chain(n, fan_in=False):
@@ -23,8 +23,7 @@ def chain(n, fan_in=False):
     return "\n".join(lines)
 
 
-def build(tmp_path, body, element, library):
-    return graph.build_graph(document.load(write_doc(tmp_path, body)), library, element)
+build = build_graph
 
 
 @pytest.mark.parametrize("n", [1000, 10000])

@@ -4,7 +4,7 @@ import os
 
 import numpy as np
 
-from mtlxgen import compare, images, pipeline
+from mtlxgen import compare, document, graph, images, pipeline
 
 FAILURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_failures")
 
@@ -14,6 +14,11 @@ def write_doc(tmp_path, body, name="doc.mtlx", version="1.39"):
     with open(path, "w") as f:
         f.write('<?xml version="1.0"?>\n<materialx version="%s">\n%s\n</materialx>\n' % (version, body))
     return path
+
+
+def build_graph(tmp_path, body, element, library):
+    """The typed Graph of one element of a document written from `body`."""
+    return graph.build_graph(document.load(write_doc(tmp_path, body)), library, element)
 
 
 def generate_one(path, element=None):
