@@ -175,6 +175,10 @@ class GraphBuilder:
             if nd is None:
                 raise MtlxError((node.loc, "node '%s' names nodedef '%s', which is not defined" % (node.name, node.nodedef)))
             return nd
+        nd = lib.find_nodedef(node.category, node.version, node.type, node.inputs)     # indexed, memoized
+        if nd is not None:
+            return nd
+        # none matches: the scan below finds none either, and says why
         candidates = lib.by_category.get(node.category)
         if not candidates:
             raise MtlxError((node.loc, "unknown node category '%s' (node '%s')" % (node.category, node.name)))

@@ -3,16 +3,16 @@
 Sources, in order: the `materialx` wheel's MaterialX/libraries (stdlib, pbrlib, bxdf, cmlib, lights,
 nprlib; never its gen* folders: we read definitions, not MaterialX's shader code), mtlxgen's own
 library (glsl_lib/*.mtlx), directories in MATERIALX_SEARCH_PATH, and directories given with --library.
-Parsed libraries are cached (pickle keyed by every file's path, size and mtime) so a warm load is fast.
+Parsed libraries are cached in a compact file (library_cache.py: keyed by every file's path, size and mtime and
+by the code that reads them; checked before it is read; its entries decoded only when first used) so that a warm
+load takes a few milliseconds. Nodedefs are found by (category, version, type, input signature), memoized
+(Library.find_nodedef), not by scanning a category's list for every node.
 """
 import functools
-import hashlib
 import os
-import pickle
 import re
 from dataclasses import dataclass, field
 
-from . import __version__, document
 from .diagnostics import MtlxError
 
 LIBRARY_FOLDERS = ("stdlib", "pbrlib", "bxdf", "cmlib", "lights", "nprlib")
@@ -122,8 +122,64 @@ class Library:
     unitdefs: dict = field(default_factory=dict)
     structs: dict = field(default_factory=dict)
     files: list = field(default_factory=list)
+    # find_nodedef's memos: (category, version, type) -> candidates, signature -> nodedef; cleared on any change
+    _candidates: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    _matches: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def find_nodedef(self, category, version, node_type, inputs):
+        """The nodedef a node of `category` (its `version`, output `node_type` and `inputs`, a dict of ports)
+        resolves to: the first of the category's nodedefs, in library order, that the version rule admits,
+        whose output type matches, and that declares every input the node has with the node's type; None
+        where none does (graph.GraphBuilder.nodedef_for then says why). Memoized by signature: a document of
+        100,000 nodes of a few kinds matches a few times, not once a node."""
+        key = (category, version, node_type, tuple([(p.name, p.type) for p in inputs.values()]))
+        try:
+            return self._matches[key]
+        except KeyError:
+            pass
+        ckey = key[:3]
+        candidates = self._candidates.get(ckey)
+        if candidates is None:
+            candidates = self._candidates[ckey] = self._admitted(category, version, node_type)
+        found = None
+        for nd, nd_inputs in candidates:
+            for name, type_name in key[3]:
+                decl = nd_inputs.get(name)
+                if decl is None or decl.type != type_name:
+                    break
+            else:
+                found = nd
+                break
+        self._matches[key] = found
+        return found
+
+    def _admitted(self, category, version, node_type):
+        """[(nodedef, its inputs)] of `category` that a node of this version and output type may resolve to, in
+        library order. Versions: a node naming one takes only nodedefs of that version; a node naming none
+        skips versioned nodedefs that are not the default where the category has an unversioned or a default one."""
+        candidates = self.by_category.get(category) or []
+        plain = sum(1 for o in candidates if o.version is None or o.isdefaultversion)
+        out = []
+        for nd in candidates:
+            if version:
+                if nd.version != version:
+                    continue
+            elif nd.version and not nd.isdefaultversion and plain:
+                continue
+            if len(nd.outputs) > 1:
+                if node_type not in ("multioutput", ""):
+                    continue
+            elif nd.type != node_type:
+                continue
+            out.append((nd, nd.inputs))
+        return out
+
+    def _changed(self):
+        self._candidates.clear()
+        self._matches.clear()
 
     def add_document(self, doc, overlay=False):
+        self._changed()
         taken = [st for st in doc.structs.values() if st.name in glsl_lib_names() or _MTLXGEN_PREFIX.match(st.name)]
         if taken:
             raise MtlxError([(st.loc, "typedef '%s': the generated GLSL already uses the name '%s'"
@@ -158,7 +214,10 @@ class Library:
                     self.implementations[impl.nodedef] = impl
 
     def flatten_inheritance(self):
-        for nd in self.nodedefs.values():
+        self._changed()
+        # a cached library's nodedefs are flattened already: only those added since (an overlay's) are walked
+        loaded = getattr(self.nodedefs, "loaded_values", None)
+        for nd in (loaded() if loaded else self.nodedefs.values()):
             chain, cur, seen = [], nd, set()
             while cur.inherit and cur.inherit in self.nodedefs and cur.inherit not in seen:
                 seen.add(cur.inherit)
@@ -180,8 +239,8 @@ class Library:
         if not (doc.nodedefs or doc.implementations or doc.structs or doc.unitdefs or doc.geompropdefs
                 or any(g.nodedef for g in doc.nodegraphs.values())):
             return self
-        lib = Library(nodedefs=dict(self.nodedefs), by_category={k: list(v) for k, v in self.by_category.items()},
-                      graph_impls=dict(self.graph_impls), nodegraphs=dict(self.nodegraphs),
+        lib = Library(nodedefs=_copy(self.nodedefs), by_category=_copy(self.by_category, list),
+                      graph_impls=_copy(self.graph_impls), nodegraphs=_copy(self.nodegraphs),
                       implementations=dict(self.implementations), geompropdefs=dict(self.geompropdefs),
                       unitdefs={k: dict(v) for k, v in self.unitdefs.items()}, structs=dict(self.structs),
                       files=self.files)
@@ -189,6 +248,14 @@ class Library:
         lib.flatten_inheritance()
         lib.overlaid = doc
         return lib
+
+
+def _copy(table, each=None):
+    """A copy of one of a Library's tables (a dict, or library_cache's lazy table: what it has not decoded
+    stays undecoded); `each` copies every value too."""
+    if not isinstance(table, dict):
+        return table.copy(each)
+    return {k: each(v) for k, v in table.items()} if each else dict(table)
 
 
 def _source_of(path):
@@ -199,20 +266,22 @@ def _source_of(path):
     return "mtlxgen" if "glsl_lib" in parts else "user"
 
 
-def _cache_path(files):
-    h = hashlib.sha256(__version__.encode())
-    for f in files:
-        st = os.stat(f)
-        h.update(("%s|%d|%d\n" % (f, st.st_size, st.st_mtime_ns)).encode())
-    base = os.environ.get("MTLXGEN_CACHE") or os.path.join(os.path.expanduser("~"), ".cache", "mtlxgen")
-    return os.path.join(base, "library-%s.pickle" % h.hexdigest()[:24])
+def parse_library(files):
+    """A Library read from its files (no cache)."""
+    from . import document
+    lib = Library(files=files)
+    for path in files:
+        lib.add_document(document.load(path, source=_source_of(path)))
+    lib.flatten_inheritance()
+    return lib
 
 
 _MEMO = {}
 
 
 def load_library(extra_dirs=(), use_cache=True):
-    """Load every data library. Raises MtlxError if a library file is broken."""
+    """Load every data library (memoized per process; from the compact cache where it holds these files as
+    they are now). Raises MtlxError if a library file is broken."""
     files = library_files(extra_dirs)
     if not files:
         raise MtlxError((None, "no MaterialX data libraries found: install the 'materialx' wheel or set "
@@ -220,27 +289,10 @@ def load_library(extra_dirs=(), use_cache=True):
     key = tuple(files)
     if key in _MEMO:
         return _MEMO[key]
-    cache = _cache_path(files) if use_cache else None
-    if cache and os.path.exists(cache):
-        try:
-            with open(cache, "rb") as f:
-                lib = pickle.load(f)
-            _MEMO[key] = lib
-            return lib
-        except Exception:
-            pass
-    lib = Library(files=files)
-    for path in files:
-        lib.add_document(document.load(path, source=_source_of(path)))
-    lib.flatten_inheritance()
-    if cache:
-        try:
-            os.makedirs(os.path.dirname(cache), exist_ok=True)
-            tmp = cache + ".%d.tmp" % os.getpid()
-            with open(tmp, "wb") as f:
-                pickle.dump(lib, f, protocol=pickle.HIGHEST_PROTOCOL)
-            os.replace(tmp, cache)
-        except OSError:
-            pass
+    if not use_cache:
+        lib = parse_library(files)
+    else:
+        from . import library_cache
+        lib = library_cache.load(files, parse_library)
     _MEMO[key] = lib
     return lib
