@@ -339,6 +339,12 @@ class Emitter:
                 self.fail(node, "closure node without a closure implementation")
         finally:
             self.context = saved
+        if cond is not None and getattr(self.graph, "static_guards", False):
+            # reduced interface (fold.py): a guard on literals is decided here, one always true is dropped
+            from .fold import static_condition
+            cond = static_condition(cond)
+            expr, cond = (mxtypes.closure_zero(src.type), None) if cond is False else (expr, None if cond is True
+                                                                                      else cond)
         if cond is not None:
             # GLSL evaluates only the chosen operand of ?:, so a disabled lobe is never computed
             expr = "(%s) ? %s : %s" % (cond, expr, mxtypes.closure_zero(src.type))

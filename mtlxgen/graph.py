@@ -52,6 +52,8 @@ class Uniform:
     loc: Loc = None
     colorspace: str = None            # filename uniforms only
     default: object = None            # image nodes: the colour outside the image
+    marked: bool = False              # the document marks it uniform="true" (the input or its nodedef's): kept
+                                      # a uniform in the reduced interface (reduce.py)
 
 
 @dataclass
@@ -355,6 +357,7 @@ class GraphBuilder:
             return Source(t, value=value, loc=port.loc)
         name = self.add_uniform("%s_%s" % (owner, declared.name), t, value, port.loc,
                                 colorspace if t == "filename" else None)
+        self.uniforms[name].marked = bool(port.uniform or declared.uniform)
         return Source(t, value=value, uniform=name, colorspace=colorspace if t == "filename" else None,
                       unit=port.unit or declared.unit, unittype=port.unittype or declared.unittype, loc=port.loc)
 

@@ -63,3 +63,11 @@ class MaterialXReference:
                     textures[port.getVariable()] = resolve_file(port.getValue().getValueString(), path) or ""
         return (shader.getSourceCode(self.mx_gen.VERTEX_STAGE), shader.getSourceCode(self.mx_gen.PIXEL_STAGE),
                 textures, seconds)
+
+
+def node_value(category, nodedef_name, inputs, types, out_type):
+    """The value of one stdlib node (category, nodedef) of literal inputs, as a Python value: the tests' reference
+    for what a node computes, and the function the generator folds constants with (fold.evaluate): one
+    implementation. Raises fold.NotFoldable where the value is left to the GPU (undefined in GLSL)."""
+    from .fold import evaluate
+    return evaluate(category, nodedef_name, inputs, types, out_type)
