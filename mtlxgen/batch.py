@@ -101,15 +101,16 @@ def _error_lines(e):
     return list(e.lines()) if isinstance(e, MtlxError) else ["%s: %s" % (type(e).__name__, e)]
 
 
-def run_job(job, library_dirs=(), strict=False):
+def run_job(job, library_dirs=(), strict=False, options=None):
     """Render one job in this process. Never raises for bad input: failures become Items with errors.
-    strict: warnings are errors (the element is not drawn)."""
+    strict: warnings are errors (the element is not drawn). options: further pipeline.Session keywords
+    (how shaders are generated: target, ...), the same for every job of a run."""
     from . import library, pipeline
     items = []
     try:
         library.load_library(library_dirs)           # once per process (memoized): not a material's cost
         t0 = time.perf_counter()
-        session = pipeline.Session(job.path, job.elements, library_dirs, strict=strict)
+        session = pipeline.Session(job.path, job.elements, library_dirs, strict=strict, **(options or {}))
         names = session.elements
     except Exception as e:  # the file as a whole
         return [Item(job.path, el, job.settings, error=_error_lines(e), pid=os.getpid())
@@ -188,9 +189,9 @@ def default_workers():
         return max(1, os.cpu_count() or 1)
 
 
-def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False):
+def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False, options=None):
     """Render all jobs; returns [Item] in job order. `progress`: a Progress, True/False, or None (auto).
-    strict: warnings are errors (run_job)."""
+    strict: warnings are errors, options: Session keywords (run_job)."""
     tasks = _split(jobs, library_dirs)
     total = sum(len(t.elements) or 1 for t in tasks)
     bar = progress if isinstance(progress, Progress) else Progress(total, "render", enabled=progress)
@@ -199,12 +200,13 @@ def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False
     results = [None] * len(tasks)
     if workers == 1:
         for i, task in enumerate(tasks):
-            results[i] = run_job(task, library_dirs, strict)
+            results[i] = run_job(task, library_dirs, strict, options)
             bar.advance(len(results[i]), os.path.basename(task.path))
     else:
         ctx = multiprocessing.get_context("spawn")
         with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-            futures = {pool.submit(run_job, task, tuple(library_dirs), strict): i for i, task in enumerate(tasks)}
+            futures = {pool.submit(run_job, task, tuple(library_dirs), strict, options): i
+                       for i, task in enumerate(tasks)}
             for fut in concurrent.futures.as_completed(futures):
                 i = futures[fut]
                 try:

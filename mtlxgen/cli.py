@@ -11,6 +11,7 @@ import sys
 
 from .diagnostics import Loc, MtlxError, Warnings
 from .emit import ENVIRONMENT_METHODS
+from .targets import NAMES as TARGET_NAMES
 
 
 def _report(e):
@@ -167,9 +168,15 @@ def _generate(args):
     try:
         return pipeline.generate(args.file, [args.element] if args.element else None, args.library, partial=True,
                                  usd_seed_rules=args.usd_seed_rules, environment=args.environment,
-                                 usd_options=_usd_options(args), strict=args.strict, warnings=warnings)
+                                 usd_options=_usd_options(args), strict=args.strict, warnings=warnings,
+                                 **_session_options(args))
     finally:
         _print_warnings(warnings.lines())
+
+
+def _session_options(args):
+    """How shaders are generated, beyond the document: pipeline.Session keywords from the options."""
+    return {"target": args.target}
 
 
 def cmd_generate(args):
@@ -309,7 +316,8 @@ def cmd_golden_check(args):
     warnings = []
     run = golden.check(args.paths, args.goldens or golden.DEFAULT_DIR, args.output, tol, workers=args.workers,
                        progress=False if args.no_progress else None, flip=not args.no_flip,
-                       library_dirs=args.library, strict=args.strict, warnings=warnings)
+                       library_dirs=args.library, strict=args.strict, warnings=warnings,
+                       options=_session_options(args))
     _print_warnings(warnings)
     _print_check(run, args.verbose)
     html_path = report.write_report(run.out_dir)
@@ -338,7 +346,7 @@ def cmd_golden_update(args):
     warnings = []
     done = golden.update(args.paths, args.goldens, settings, workers=args.workers,
                          progress=False if args.no_progress else None, library_dirs=args.library,
-                         strict=args.strict, warnings=warnings)
+                         strict=args.strict, warnings=warnings, options=_session_options(args))
     _print_warnings(warnings)
     status = 0
     for name, what, lines in done:
@@ -363,7 +371,7 @@ def cmd_report(args):
         warnings = []
         run = golden.check([out], args.goldens or golden.DEFAULT_DIR, args.checks, workers=args.workers,
                            progress=False if args.no_progress else None, library_dirs=args.library,
-                           strict=args.strict, warnings=warnings)
+                           strict=args.strict, warnings=warnings, options=_session_options(args))
         _print_warnings(warnings)
         out = run.out_dir
     path = report.write_report(out, args.output)
@@ -380,7 +388,7 @@ def cmd_batch(args):
             for p in batch.find_materials(args.paths)]
     items = batch.render_jobs(jobs, workers=args.workers,
                               progress=False if args.no_progress else None, library_dirs=args.library,
-                              strict=args.strict)
+                              strict=args.strict, options=_session_options(args))
     _print_warnings(line for it in items for line in it.warnings)
     status, printed = 0, set()
     for it in items:
@@ -401,6 +409,14 @@ def cmd_batch(args):
 def build_parser():
     ap = _Parser(prog="mtlxgen", description="MaterialX documents to GLSL shaders")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+    def generation(p):
+        """Options of how shaders are generated (_session_options), for every command that generates."""
+        p.add_argument("--target", choices=TARGET_NAMES, default="glsl",
+                       help="shading language: glsl = desktop GLSL 4.00 (default), essl = GLSL ES 3.00 for WebGL2 "
+                            "(no uniform initializers: the manifest's values and \"application\" defaults are bound), "
+                            "vulkan = GLSL 4.50 for SPIR-V (one std140 uniform block, bindings and locations in the "
+                            "manifest)")
 
     def common(p):
         p.add_argument("file", help="a .mtlx document or a USD stage (.usd, .usda, .usdc, .usdz)")
@@ -426,6 +442,7 @@ def build_parser():
 
     p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
     common(p)
+    generation(p)
     p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
     p.add_argument("--element", metavar="NAME", type=_name,
                    help="only this element (name path; for a USD stage, a material's prim path or name)")
@@ -434,6 +451,7 @@ def build_parser():
 
     p = sub.add_parser("render", help="render each element on a sphere to NAME.png (sRGB) and NAME.exr (linear)")
     common(p)
+    generation(p)
     p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
     p.add_argument("--element", metavar="NAME", type=_name,
                    help="only this element (name path; for a USD stage, a material's prim path or name)")
@@ -488,6 +506,7 @@ def build_parser():
         p.add_argument("-j", "--workers", type=_int_in(1, MAX_WORKERS), default=None, metavar="N",
                        help="render processes, 1 to %d (default: one per core)" % MAX_WORKERS)
         p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+        generation(p)
         p.add_argument("--library", action="append", default=[], metavar="DIR", type=_existing_dir,
                        help="extra directory of .mtlx definitions (repeatable)")
         p.add_argument("--strict", action="store_true",

@@ -12,19 +12,13 @@ import os
 import re
 from dataclasses import dataclass, field
 
-from . import mxtypes, nodes, streams
+from . import interface, mxtypes, nodes, streams, targets
 from .diagnostics import MtlxError
 from .graph import glsl_identifier, unique_identifier
 from .library import glsl_lib_root
 
-GLSL_VERSION = "400"
+GLSL_VERSION = targets.TARGETS["glsl"].version
 CLOSURE_TYPES = ("BSDF", "EDF", "VDF")
-
-APP_UNIFORMS = {
-    "u_worldMatrix": "mat4", "u_viewProjectionMatrix": "mat4", "u_worldInverseTransposeMatrix": "mat4",
-    "u_worldInverseMatrix": "mat4", "u_viewPosition": "vec3",
-}
-_APP_DEFAULT = {"mat4": "mat4(1.0)", "vec3": "vec3(0.0)"}     # initializers, for renders that set none
 
 
 @dataclass
@@ -100,10 +94,12 @@ def comment_text(text):
 # ---------------------------------------------------------------- glsl_lib files
 
 _FILE_CACHE = {}
+_FILE_UNIFORMS = {}
 
 
 def read_lib_file(rel):
-    """(text, [required files]) of a glsl_lib file; `// requires: a.glsl b.glsl` header lines name deps."""
+    """(text, [required files]) of a glsl_lib file; `// requires: a.glsl b.glsl` header lines name deps,
+    `// uniforms: u_a u_b` lines the application uniforms it reads (lib_file_uniforms; interface.py)."""
     if rel not in _FILE_CACHE:
         path = os.path.join(glsl_lib_root(), rel)
         with open(path) as f:
@@ -111,15 +107,47 @@ def read_lib_file(rel):
         # our macros span lines with a trailing backslash for reading; GLSL 4.00 (unlike 4.20 and ES 3.00)
         # has no line continuation, so each macro is joined into one line here
         text = re.sub(r"\\[ \t]*\n", " ", text)
-        deps = []
+        deps, uniforms = [], []
         for line in text.splitlines():
             s = line.strip()
             if s.startswith("// requires:"):
                 deps += s[len("// requires:"):].split()
+            elif s.startswith("// uniforms:"):
+                uniforms += s[len("// uniforms:"):].split()
             elif s and not s.startswith("//"):
                 break
+        unknown = [u for u in uniforms if u not in interface.TABLE]
+        if unknown:
+            raise RuntimeError("glsl_lib/%s names uniforms not in interface.TABLE: %s" % (rel, " ".join(unknown)))
         _FILE_CACHE[rel] = (text, deps)
+        _FILE_UNIFORMS[rel] = tuple(uniforms)
     return _FILE_CACHE[rel]
+
+
+def lib_file_uniforms(rel):
+    """The application uniforms glsl_lib file `rel` reads (its `// uniforms:` header)."""
+    read_lib_file(rel)
+    return _FILE_UNIFORMS[rel]
+
+
+def interface_declarations(names, target="glsl"):
+    """GLSL declarations of the named application uniforms for a target without a uniform block (what a
+    stage or a test assembling glsl_lib files by hand puts before the files): the light record, then the
+    uniforms in name order."""
+    t = targets.get(target)
+    lines = interface.types_needed(names)
+    for name in sorted(names):
+        u = interface.TABLE[name]
+        init = interface.glsl_value(u) if t.initializers else None
+        lines.append("uniform %s %s%s%s;" % (u.type, name, u.array_suffix, " = " + init if init else ""))
+    return lines
+
+
+def lib_source(rels, target="glsl"):
+    """glsl_lib files `rels` (in this order, dependencies not added) after the declarations of the application
+    uniforms they read: what a test compiling library code by hand puts after its #version line."""
+    names = {u for r in rels for u in lib_file_uniforms(r)}
+    return "\n".join(interface_declarations(names, target) + [read_lib_file(r)[0] for r in rels])
 
 
 # How environment light is integrated (CLI --environment): "fis" samples each lobe (Krivanek & Colbert 2008),
@@ -129,11 +157,12 @@ _ENVIRONMENT_DEFINES = {"fis": [], "prefiltered": ["MG_ENV_PREFILTERED", "MG_REF
 
 
 class Emitter:
-    def __init__(self, graph, environment="fis"):
+    def __init__(self, graph, environment="fis", target="glsl"):
         if environment not in ENVIRONMENT_METHODS:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
         self.graph = graph
         self.environment = environment
+        self.target = targets.get(target)
         self.files = []               # glsl_lib files in emission order
         self.external = []            # (path, text) of document-supplied GLSL
         self.streams = {}             # name -> Stream, in first-use order
@@ -166,6 +195,7 @@ class Emitter:
             raise RuntimeError("glsl_lib file missing: %s" % rel) from None
         for d in deps:
             self.require(d)
+        self.app_uniforms.update(lib_file_uniforms(rel))
         if rel not in self.files:
             self.files.append(rel)
 
@@ -494,23 +524,18 @@ class Emitter:
             return "vec4(%s.intensity, 1.0)" % e
         raise MtlxError((result.loc, "an output of type %s cannot be rendered" % t))
 
-    def uniform_decl(self, u):
+    def uniform_parts(self, u):
+        """(GLSL type, array length or 0, GLSL initializer or None) of one of the material's uniforms."""
+        t = u.type
         try:
-            return self._uniform_decl(u)
+            if t == "filename":
+                return "sampler2D", 0, None
+            if t in mxtypes.ARRAY_ELEMENT:
+                return (mxtypes.glsl_type(mxtypes.ARRAY_ELEMENT[t]), max(1, len(u.value or ())),
+                        mxtypes.glsl_literal(t, u.value, self.graph.structs))
+            return self.glsl_type(t, u.loc), 0, mxtypes.glsl_literal(t, u.value, self.graph.structs)
         except mxtypes.ValueError_ as e:
             raise MtlxError((u.loc, "input '%s': %s" % (u.name, e))) from None
-
-    def _uniform_decl(self, u):
-        t = u.type
-        if t == "filename":
-            return "uniform sampler2D %s;" % u.name
-        if t in mxtypes.ARRAY_ELEMENT:
-            element = mxtypes.ARRAY_ELEMENT[t]
-            n = max(1, len(u.value or ()))
-            return "uniform %s %s[%d] = %s;" % (mxtypes.glsl_type(element), u.name, n,
-                                                 mxtypes.glsl_literal(t, u.value, self.graph.structs))
-        return "uniform %s %s = %s;" % (self.glsl_type(t, u.loc), u.name,
-                                         mxtypes.glsl_literal(t, u.value, self.graph.structs))
 
     def displacement(self):
         """The displacementshader the element applies (a material's, or the element itself), or None."""
@@ -545,7 +570,7 @@ class Emitter:
         else:
             fragment_ids = self.reachable(g.result)
         if disp is not None:
-            vertex_emitter = VertexEmitter(g)
+            vertex_emitter = VertexEmitter(g, self.target.name)
             vertex_ids = self.reachable(disp)
             for node in g.nodes:
                 if node.id in vertex_ids:
@@ -558,24 +583,19 @@ class Emitter:
         out_expr = self.output_statement(g.result)
         if any(mxtypes.is_closure(t) for n in g.nodes if n.id in fragment_ids for t in n.outputs.values()):
             self.uses_closures = True          # shader-typed values need the closure structs
-        frag = ["#version " + GLSL_VERSION, "// %s: generated by mtlxgen from %s" % (
-            comment_text(g.element), comment_text(os.path.basename(g.doc_path))), ""]
         if self.uses_closures:              # the closure types first, once (a library file may require them too)
             self.files = ["closures.glsl"] + [f for f in self.files if f != "closures.glsl"]
         lit = "lighting/environment.glsl" in self.files
+        vertex = VertexStage(self, vertex_emitter)
+        decl = Declarations(self, vertex)
+        frag = decl.preamble("// %s: generated by mtlxgen from %s" % (
+            comment_text(g.element), comment_text(os.path.basename(g.doc_path))))
         if lit:
             frag.extend("#define " + d for d in _ENVIRONMENT_DEFINES[self.environment])
         used = {s.type for n in g.nodes for s in n.inputs.values()} | {
             t for n in g.nodes for t in n.outputs.values()} | {g.result.type} | {u.type for u in g.uniforms.values()}
-        for name in struct_order([t for t in g.structs if t in used], g.structs):
-            frag.append("struct %s { %s };" % (name, " ".join(
-                "%s %s;" % (mxtypes.glsl_type(mt, g.structs), mn) for mn, mt, _ in g.structs[name].members)))
-        for u in sorted(self.app_uniforms):
-            frag.append("uniform %s %s = %s;" % (APP_UNIFORMS[u], u, _APP_DEFAULT[APP_UNIFORMS[u]]))
-        for u in g.uniforms.values():
-            frag.append(self.uniform_decl(u))
-        for s in self.streams.values():
-            frag.append("%sin %s v_%s;" % ("flat " if s.flat else "", s.type, s.name))
+        frag += decl.uniforms("fragment", self.app_uniforms, list(g.uniforms.values()), used)
+        frag += decl.varyings("in", list(self.streams.values()))
         frag.append("layout(location = 0) out vec4 out_color;")
         frag.append("")
         for rel in self.files:
@@ -591,64 +611,88 @@ class Emitter:
         frag.append("    out_color = %s;" % out_expr)
         frag.append("}")
         fragment = "\n".join(frag) + "\n"
-        vertex, attributes = self.vertex_stage(vertex_emitter)
         stem = file_stem(g.element)
         manifest = {
             "element": g.element,
-            "glsl_version": GLSL_VERSION,
+            "target": self.target.name,
+            "glsl_version": self.target.version,
             "vertex": stem + ".vert",
             "fragment": stem + ".frag",
-            "attributes": attributes,
-            "uniforms": [self.manifest_uniform(u) for u in g.uniforms.values() if u.type != "filename"],
-            "textures": [self.manifest_texture(u) for u in g.uniforms.values() if u.type == "filename"],
+            "attributes": dict(vertex.attributes),
+            "uniforms": [self.manifest_uniform(u, decl) for u in g.uniforms.values() if u.type != "filename"],
+            "textures": [self.manifest_texture(u, decl) for u in g.uniforms.values() if u.type == "filename"],
+            "application": [interface.manifest_entry(interface.TABLE[n]) for n in sorted(decl.app_names)],
         }
+        manifest.update(decl.manifest())
         if lit:
             manifest["environment"] = self.environment
         if self.primvars:
             manifest["primvars"] = self.primvars
         code = self.document_code + (vertex_emitter.document_code if vertex_emitter is not None else [])
-        return Shader(g.element, vertex, fragment, manifest, document_code=code)
+        return Shader(g.element, vertex.text(decl), fragment, manifest, document_code=code)
 
-    def manifest_uniform(self, u):
+    def manifest_uniform(self, u, decl=None):
         value = u.value
         if isinstance(value, tuple):
             value = [list(v) if isinstance(v, tuple) else v for v in value]
-        return {"name": u.name, "type": self.uniform_type(u), "mtlx_type": u.type, "value": value}
+        entry = {"name": u.name, "type": self.uniform_type(u), "mtlx_type": u.type, "value": value}
+        if u.type in self.graph.structs:
+            entry["members"] = [{"name": mn, "type": mxtypes.glsl_type(mt, self.graph.structs)}
+                                for mn, mt, _ in self.graph.structs[u.type].members]
+        if decl is not None:
+            entry.update(decl.member_fields(u.name))
+        return entry
 
     def uniform_type(self, u):
         if u.type in mxtypes.ARRAY_ELEMENT:
             return "%s[%d]" % (mxtypes.glsl_type(mxtypes.ARRAY_ELEMENT[u.type]), max(1, len(u.value or ())))
         return self.glsl_type(u.type)
 
-    def manifest_texture(self, u):
+    def manifest_texture(self, u, decl=None):
         from .resolve import resolve_file
         entry = {"uniform": u.name, "file": resolve_file(u.value, self.graph.doc_path) or u.value,
                  "colorspace": u.colorspace or ""}
         entry.update(self.textures.get(u.name, {}))
+        if decl is not None and u.name in decl.bindings:
+            entry.update(set=targets.BLOCK_SET, binding=decl.bindings[u.name])
         return entry
 
-    def vertex_stage(self, displacer=None):
-        """The vertex stage: position, the streams the fragment stage reads, and displacement when the
-        material has one (its nodes evaluated here, the position moved by offset * scale)."""
-        attrs = {"i_position": "vec3"}
-        uniforms = {"u_worldMatrix", "u_viewProjectionMatrix"}
-        for s in self.streams.values():
+
+class VertexStage:
+    """The vertex stage: position, the streams the fragment stage reads, and displacement when the material
+    has one (its nodes evaluated here, the position moved by offset * scale). Built from the fragment
+    emitter's streams; text() spells it once the declarations are planned (they span both stages)."""
+
+    def __init__(self, em, displacer=None):
+        self.em, self.displacer = em, displacer
+        self.attributes = {"i_position": "vec3"}
+        self.app_uniforms = {"u_worldMatrix", "u_viewProjectionMatrix"}
+        for s in em.streams.values():
             for a, t in s.attributes:
-                attrs.setdefault(a, t)
-            uniforms.update(s.uniforms)
+                self.attributes.setdefault(a, t)
+            self.app_uniforms.update(s.uniforms)
+        self.material = []          # the material's uniforms the displacement reads
         if displacer is not None:
             for a, t in displacer.attributes.items():
-                attrs.setdefault(a, t)
-            uniforms.update(displacer.app_uniforms)
-        lines = ["#version " + GLSL_VERSION, "// %s: generated by mtlxgen" % comment_text(self.graph.element), ""]
-        lines += ["in %s %s;" % (t, a) for a, t in attrs.items()]
-        lines += ["uniform %s %s = %s;" % (APP_UNIFORMS[u], u, _APP_DEFAULT[APP_UNIFORMS[u]]) for u in sorted(uniforms)]
-        lines += ["%sout %s v_%s;" % ("flat " if s.flat else "", s.type, s.name) for s in self.streams.values()]
+                self.attributes.setdefault(a, t)
+            self.app_uniforms.update(displacer.app_uniforms)
+            used = {src.uniform for n in em.graph.nodes if n.id in displacer.vars_owner
+                    for src in n.inputs.values() if src.uniform}
+            self.material = [u for u in em.graph.uniforms.values() if u.name in used]
+
+    def text(self, decl):
+        em, displacer = self.em, self.displacer
+        lines = decl.preamble("// %s: generated by mtlxgen" % comment_text(em.graph.element))
+        lines += decl.attributes(self.attributes)
+        used = {u.type for u in self.material}
+        if displacer is not None:
+            g = em.graph
+            used |= {s.type for n in g.nodes if n.id in displacer.vars_owner for s in n.inputs.values()} | {
+                t for n in g.nodes if n.id in displacer.vars_owner for t in n.outputs.values()}
+        lines += decl.uniforms("vertex", self.app_uniforms, self.material, used)
+        lines += decl.varyings("out", list(em.streams.values()))
         body = ["    vec4 world_position = u_worldMatrix * vec4(i_position, 1.0);"]
         if displacer is not None:
-            used = {src.uniform for n in self.graph.nodes if n.id in displacer.vars_owner
-                    for src in n.inputs.values() if src.uniform}
-            lines += [self.uniform_decl(u) for u in self.graph.uniforms.values() if u.name in used]
             files = ["closures.glsl"] + [f for f in displacer.files if f != "closures.glsl"]
             for rel in files:
                 lines.append("// ---- glsl_lib/%s" % rel)
@@ -659,16 +703,132 @@ class Emitter:
                      "mg_displacement.scale, 1.0);"]
         lines += ["", "void main()", "{"] + body
         lines += ["    gl_Position = u_viewProjectionMatrix * world_position;"]
-        lines += ["    v_%s = %s;" % (s.name, s.vertex) for s in self.streams.values()]
+        lines += ["    v_%s = %s;" % (s.name, s.vertex) for s in em.streams.values()]
         lines.append("}")
-        return "\n".join(lines) + "\n", attrs
+        return "\n".join(lines) + "\n"
+
+
+class Declarations:
+    """How the two stages declare their interface for the emitter's target (targets.py): uniforms with or
+    without initializers, or one std140 block shared by both stages with samplers at bindings; ins and outs
+    with or without locations. Planned once for both stages, so the block and the bindings agree."""
+
+    def __init__(self, em, vertex):
+        self.em, self.target, self.graph = em, em.target, em.graph
+        g = self.graph
+        self.app_names = set(em.app_uniforms) | set(vertex.app_uniforms)
+        self._attribute_order = list(vertex.attributes)
+        material = list(g.uniforms.values())
+        self.structs = {name: [(mn, mxtypes.glsl_type(mt, g.structs), 0) for mn, mt, _ in s.members]
+                        for name, s in g.structs.items()}
+        self.structs["LightData"] = [(n, t, 0) for n, t in interface.LIGHT_DATA]
+        app_samplers = sorted(n for n in self.app_names if interface.TABLE[n].type in interface.SAMPLER_TYPES)
+        samplers = app_samplers + [u.name for u in material if u.type == "filename"]
+        self.bindings, self.block, self.offsets, self.block_size = {}, [], {}, 0
+        if self.target.uniform_block:
+            self.bindings = {name: i + 1 for i, name in enumerate(samplers)}
+            for name in sorted(self.app_names):
+                u = interface.TABLE[name]
+                if u.type not in interface.SAMPLER_TYPES:
+                    self.block.append((name, u.type, u.length))
+            for u in material:
+                if u.type != "filename":
+                    t, length, _ = em.uniform_parts(u)
+                    self.block.append((u.name, t, length))
+            layout, self.block_size = targets.block_layout(self.block, self.structs)
+            self.offsets = {name: (offset, stride) for name, offset, stride in layout}
+        fragment_samplers = len([n for n in app_samplers if n in em.app_uniforms]) + \
+            len([u for u in material if u.type == "filename"])
+        if self.target.max_samplers and fragment_samplers > self.target.max_samplers:
+            raise MtlxError((g.result.loc, "element '%s' needs %d texture samplers in its fragment stage; %s "
+                             "guarantees %d" % (comment_text(g.element), fragment_samplers, self.target.api,
+                                                self.target.max_samplers)))
+
+    def preamble(self, comment):
+        return ["#version " + self.target.version] + list(self.target.header) + [comment, ""]
+
+    def struct_lines(self, types, app_names):
+        g = self.graph
+        lines = []
+        for name in struct_order([t for t in g.structs if t in types], g.structs):
+            lines.append("struct %s { %s };" % (name, " ".join(
+                "%s %s;" % (mxtypes.glsl_type(mt, g.structs), mn) for mn, mt, _ in g.structs[name].members)))
+        return lines + interface.types_needed(app_names)
+
+    def uniforms(self, stage, app_names, material, used_types):
+        """The struct types and uniforms of one stage: application uniforms `app_names`, the material's
+        `material` (graph Uniforms). With a block, every stage declares the whole block."""
+        if not self.target.uniform_block:
+            lines = self.struct_lines(used_types, ())      # interface_declarations has the light record
+            lines += interface_declarations(app_names, self.target.name)
+            for u in material:
+                t, length, init = self.em.uniform_parts(u)
+                suffix = "[%d]" % length if length else ""
+                init = " = " + init if init is not None and self.target.initializers else ""
+                lines.append("uniform %s %s%s%s;" % (t, u.name, suffix, init))
+            return lines
+        block_types = {u.type for u in self.graph.uniforms.values()}
+        lines = self.struct_lines(set(used_types) | block_types, self.app_names)
+        lines.append("layout(std140, set = %d, binding = %d) uniform %s" % (targets.BLOCK_SET, targets.BLOCK_BINDING,
+                                                                          targets.BLOCK_NAME))
+        lines.append("{")
+        for name, t, length in self.block:
+            suffix = "[MG_MAX_LIGHTS]" if name == "u_lightData" else ("[%d]" % length if length else "")
+            lines.append("    %s %s%s;" % (t, name, suffix))
+        lines.append("};")
+        stage_samplers = [n for n in sorted(app_names) if interface.TABLE[n].type in interface.SAMPLER_TYPES]
+        stage_samplers += [u.name for u in material if u.type == "filename"]
+        for name in stage_samplers:
+            lines.append("layout(set = %d, binding = %d) uniform sampler2D %s;" % (
+                targets.BLOCK_SET, self.bindings[name], name))
+        return lines
+
+    def attributes(self, attrs):
+        if not self.target.locations:
+            return ["in %s %s;" % (t, a) for a, t in attrs.items()]
+        return ["layout(location = %d) in %s %s;" % (i, t, a) for i, (a, t) in enumerate(attrs.items())]
+
+    def varyings(self, direction, streams_):
+        lines = []
+        for i, s in enumerate(streams_):
+            decl = "%s%s %s v_%s;" % ("flat " if s.flat else "", direction, s.type, s.name)
+            lines.append("layout(location = %d) %s" % (i, decl) if self.target.locations else decl)
+        return lines
+
+    def member_fields(self, name):
+        """Manifest fields of a block member: its byte offset (and array stride) in the block."""
+        if name not in self.offsets:
+            return {}
+        offset, stride = self.offsets[name]
+        return {"offset": offset, "stride": stride} if stride else {"offset": offset}
+
+    def manifest(self):
+        """The target's own manifest fields: the block's layout, the samplers' bindings, the attributes'
+        locations (vulkan); nothing for the others."""
+        if not self.target.uniform_block:
+            return {}
+        members = []
+        for name, t, length in self.block:
+            entry = {"name": name, "type": t + ("[%d]" % length if length else "")}
+            entry.update(self.member_fields(name))
+            if t in self.structs:
+                layout, size = targets.block_layout(self.structs[t], self.structs)
+                entry["members"] = [{"name": n, "type": mt, "offset": off} for (n, off, _), (_, mt, _) in
+                                    zip(layout, self.structs[t])]
+            members.append(entry)
+        return {
+            "uniform_block": {"name": targets.BLOCK_NAME, "set": targets.BLOCK_SET, "binding": targets.BLOCK_BINDING,
+                              "layout": "std140", "size": self.block_size, "members": members},
+            "samplers": [{"name": n, "set": targets.BLOCK_SET, "binding": b} for n, b in self.bindings.items()],
+            "attribute_locations": {a: i for i, a in enumerate(self._attribute_order)},
+        }
 
 
 class VertexEmitter(Emitter):
     """Emits nodes into the vertex stage (for displacement): streams read the attributes directly."""
 
-    def __init__(self, graph):
-        super().__init__(graph)
+    def __init__(self, graph, target="glsl"):
+        super().__init__(graph, target=target)
         self.attributes = {}
         self.result = None
 
@@ -721,5 +881,5 @@ def _is_plain_name(e):
     return e.replace("_", "a").isalnum() and not e[0].isdigit() and e not in ("true", "false")
 
 
-def emit(graph, environment="fis"):
-    return Emitter(graph, environment).emit()
+def emit(graph, environment="fis", target="glsl"):
+    return Emitter(graph, environment, target).emit()

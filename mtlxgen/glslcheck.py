@@ -59,7 +59,9 @@ def check(shader):
     if not shader.document_code:
         return shader
     pool, tried = _worker()
-    log = pool.submit(_compile, tried, shader.vertex, shader.fragment).result()
+    from .targets import for_opengl
+    vertex, fragment = for_opengl(shader.vertex), for_opengl(shader.fragment)
+    log = pool.submit(_compile, tried, vertex, fragment).result()
     if log is not None:
         raise MtlxError(problems(shader, log))
     return shader

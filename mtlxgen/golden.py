@@ -338,12 +338,14 @@ def _result(t, index, status, message=(), metrics=None, timings=None, files=None
 
 
 def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tolerance(), workers=None,
-          progress=None, flip=True, library_dirs=(), strict=False, warnings=None):
+          progress=None, flip=True, library_dirs=(), strict=False, warnings=None, options=None):
     """Render and compare. Writes results.json to out_dir and, per material that does not pass,
     NAME.new.png, NAME.golden.png, NAME.diff.png (and NAME.flip.png, NAME.new.exr where they apply)
     side by side; a passing material leaves no images (stale ones from an earlier run are removed).
     Raises MtlxError when there is nothing to check. warnings: a list that receives the warning lines of
-    the documents checked, each once; strict: warnings are errors (the material's status is error)."""
+    the documents checked, each once; strict: warnings are errors (the material's status is error);
+    options: how shaders are generated (pipeline.Session keywords: target, ...): a golden is an image, so
+    every target must draw it."""
     index = Index(golden_dir)
     tgts = targets(index, paths, library_dirs)
     if not tgts:
@@ -356,7 +358,7 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
     settings_for = lambda t: index.settings(t.entry) if t.entry else RenderSettings()
     tgts_render = [t for t in tgts if t.error is None and t.entry is not None]
     items = batch.render_jobs(_jobs(tgts_render, settings_for), workers=workers, progress=progress,
-                              library_dirs=library_dirs, strict=strict)
+                              library_dirs=library_dirs, strict=strict, options=options)
     _collect_warnings(items, warnings)
     by_key = {(os.path.abspath(it.path), it.element): it for it in items}
     os.makedirs(out_dir, exist_ok=True)
@@ -452,7 +454,7 @@ def _scene_changed(recorded):
 # ---------------------------------------------------------------- update
 
 def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, progress=None, library_dirs=(),
-           strict=False, warnings=None):
+           strict=False, warnings=None, options=None):
     """Render and (re)write goldens. `settings` (RenderSettings) overrides what each golden recorded;
     new goldens get RenderSettings() by default. Returns [(name, status, message lines)] with status
     created, updated, unchanged or error; the index is saved once at the end. Raises MtlxError when
@@ -468,7 +470,7 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
         return index.settings(t.entry) if t.entry else RenderSettings()
 
     items = batch.render_jobs(_jobs(tgts, settings_for), workers=workers, progress=progress,
-                              library_dirs=library_dirs, strict=strict)
+                              library_dirs=library_dirs, strict=strict, options=options)
     _collect_warnings(items, warnings)
     by_key = {(os.path.abspath(it.path), it.element): it for it in items}
     os.makedirs(index.dir, exist_ok=True)

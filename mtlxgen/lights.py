@@ -39,12 +39,10 @@ def load_light_rig(path):
     return lights
 
 
-def bind_lights(prog, lights):
-    """Set u_lightData[i] members and u_numActiveLightSources on a moderngl program."""
+def bind_lights(prepared, lights):
+    """Set u_lightData[i] members and u_numActiveLightSources on a render.Prepared shader (plain uniforms or
+    members of its uniform block)."""
     for i, light in enumerate(lights):
         for member, value in light.items():
-            name = "u_lightData[%d].%s" % (i, member)
-            if name in prog:
-                prog[name].value = value
-    if "u_numActiveLightSources" in prog:
-        prog["u_numActiveLightSources"].value = len(lights)
+            prepared.set("u_lightData[%d].%s" % (i, member), value)
+    prepared.set("u_numActiveLightSources", len(lights))

@@ -1,7 +1,7 @@
 """The whole pipeline for one document: read, resolve, build each element's graph, emit GLSL."""
 import os
 
-from . import document, emit, glslcheck, graph, library
+from . import document, emit, glslcheck, graph, library, targets
 from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
 from .resolve import search_paths
 
@@ -29,9 +29,10 @@ class Session:
     warnings raises where it is built (nothing of it written)."""
 
     def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None, environment="fis",
-                 usd_options=None, strict=False, warnings=None):
+                 usd_options=None, strict=False, warnings=None, target="glsl"):
         self.path = path
         self.environment = environment
+        self.target = targets.get(target).name
         self.strict = strict
         self.warnings = warnings if warnings is not None else Warnings()
         self.element_warnings = {}          # element name -> [(Loc, message)] met building it
@@ -78,7 +79,7 @@ class Session:
                                                   if w not in self.doc_warnings])
 
     def shader(self, name):
-        shader = glslcheck.check(emit.emit(self.graph(name), environment=self.environment))
+        shader = glslcheck.check(emit.emit(self.graph(name), environment=self.environment, target=self.target))
         if self.stage is not None and name in self.stage.materials:
             shader.manifest["usd"] = self.stage.manifest(name)
         return shader
@@ -95,7 +96,7 @@ class Session:
 
 
 def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis",
-             usd_options=None, strict=False, warnings=None):
+             usd_options=None, strict=False, warnings=None, target="glsl"):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
 
     usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
@@ -106,10 +107,14 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
 
     warnings: a diagnostics.Warnings that receives every warning met (Session); strict: warnings are errors.
 
+    target: "glsl" (desktop GLSL 4.00), "essl" (WebGL2's GLSL ES 3.00) or "vulkan" (GLSL 4.50 for SPIR-V):
+    targets.py.
+
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
-    session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options, strict, warnings)
+    session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options, strict, warnings,
+                      target)
     problems, shaders = Problems(), []
     for loc, message in session.notes():
         problems.add(loc, message)

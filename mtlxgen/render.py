@@ -223,20 +223,158 @@ def _read_associated(path):
 _SAMPLER_TYPES = {0x8B5D, 0x8B5E, 0x8B5F, 0x8B60}      # GL_SAMPLER_1D, _2D, _3D, _CUBE
 
 
+class UniformBlock:
+    """The std140 uniform block of a vulkan-target shader, filled from the manifest's offsets (what a Vulkan
+    renderer does with the same manifest) and bound at the block's binding. Names are a member's
+    (`u_worldMatrix`) or an array element's field (`u_lightData[2].color`)."""
+
+    def __init__(self, ctx, prog, spec):
+        self.spec = spec
+        self.members = {m["name"]: m for m in spec["members"]}
+        self.data = bytearray(spec["size"])
+        self.buffer = ctx.buffer(reserve=max(spec["size"], 16))
+        self.binding = spec["binding"]
+        if spec["name"] in prog:
+            prog[spec["name"]].binding = self.binding
+
+    def locate(self, name):
+        """(offset, GLSL type) of a member or member field, None when the block has no such name."""
+        base, _, field_ = name.partition(".")
+        base, _, index = base.partition("[")
+        m = self.members.get(base)
+        if m is None:
+            return None
+        offset, t = m["offset"], m["type"].split("[")[0]
+        if index:
+            offset += int(index.rstrip("]")) * m.get("stride", 0)
+        if field_:
+            f = next((f for f in m.get("members", ()) if f["name"] == field_), None)
+            if f is None:
+                return None
+            return offset + f["offset"], f["type"]
+        return offset, (m["type"] if not index else t)
+
+    def has(self, name):
+        return self.locate(name) is not None
+
+    def set(self, name, value):
+        offset, t = self.locate(name)
+        m = self.members.get(name)
+        if m is not None and m.get("members") and "[" not in t:          # a struct member: values in member order
+            for f, v in zip(m["members"], value):
+                self.data[offset + f["offset"]:offset + f["offset"] + len(_std140_bytes(f["type"], v))] = \
+                    _std140_bytes(f["type"], v)
+            return
+        raw = _std140_bytes(t, value, m.get("stride", 16) if m is not None else 16)
+        self.data[offset:offset + len(raw)] = raw
+
+    def upload(self):
+        self.buffer.write(bytes(self.data))
+        self.buffer.bind_to_uniform_block(self.binding)
+
+    def release(self):
+        self.buffer.release()
+
+
+_COMPONENTS = {"float": ("f", 1), "int": ("i", 1), "bool": ("i", 1), "uint": ("I", 1), "vec2": ("f", 2),
+               "vec3": ("f", 3), "vec4": ("f", 4), "ivec2": ("i", 2), "ivec3": ("i", 3), "ivec4": ("i", 4)}
+
+
+def _std140_bytes(glsl_type, value, stride=16):
+    """A value's bytes as std140 lays it out (targets.std140): matrices column by column, each column padded to
+    16 bytes; arrays (`float[3]`) element by element at `stride`. Matrices come as column-major numbers or as
+    the column-major float32 bytes moderngl's write() takes."""
+    import struct
+    base, _, length = glsl_type.partition("[")
+    if length:
+        out = bytearray(stride * int(length.rstrip("]")))
+        for i, v in enumerate(value):
+            raw = _std140_bytes(base, v)
+            out[i * stride:i * stride + len(raw)] = raw
+        return bytes(out)
+    if base in ("mat2", "mat3", "mat4"):
+        n = int(base[3])
+        flat = (np.frombuffer(value, dtype="f4") if isinstance(value, (bytes, bytearray))
+                else np.asarray(value, dtype="f4").reshape(-1))
+        cols = np.zeros((n, 4), dtype="f4")
+        cols[:, :n] = flat.reshape(n, n)
+        return cols.tobytes()
+    code, n = _COMPONENTS[base]
+    values = [value] if n == 1 and not isinstance(value, (list, tuple)) else list(value)
+    values = [int(v) for v in values] if code in "iI" else [float(v) for v in values]
+    return struct.pack("<%d%s" % (n, code), *values)
+
+
 class Prepared:
     """A linked shader ready to draw (Renderer.prepare): its program, the geometry's vertex array, and the
     samplers' files and default colours. Textures are looked up in the renderer's cache at each draw, so a
-    file dropped from it (Renderer.forget_texture) is read again by the next draw. Release when done."""
+    file dropped from it (Renderer.forget_texture) is read again by the next draw. Release when done.
 
-    def __init__(self, prog, vao, samplers, manifest):
+    set() gives a uniform its value whatever the target declared it as: a plain uniform, or a member of a
+    vulkan shader's uniform block (uploaded by the draw)."""
+
+    def __init__(self, prog, vao, samplers, manifest, block=None):
         self.prog = prog
         self.vao = vao
         self.samplers = samplers        # [(uniform, file or None, default colour or None)], sorted by uniform
         self.manifest = manifest or {}
+        self.block = block              # UniformBlock of a vulkan-target shader, else None
+
+    def has(self, name):
+        return name in self.prog or (self.block is not None and self.block.has(name))
+
+    def set(self, name, value):
+        """Set a uniform (False where the shader does not have it). Matrices as column-major float32 bytes."""
+        if self.block is not None and self.block.has(name):
+            self.block.set(name, value)
+            return True
+        if name not in self.prog:
+            return False
+        u = self.prog[name]
+        if isinstance(value, (bytes, bytearray)):
+            u.write(value)
+        else:
+            u.value = int(value) if isinstance(value, bool) else value
+        return True
+
+    def set_defaults(self):
+        """The values a target without initializers (essl, vulkan) leaves to the application: the application
+        uniforms' defaults and the material's values, from the manifest."""
+        for entry in self.manifest.get("application", ()):
+            if entry.get("default") is not None:
+                value = entry["default"]
+                if entry["type"].startswith("mat"):
+                    value = np.asarray(value, dtype="f4").tobytes()
+                self.set(entry["name"], value)
+        for entry in self.manifest.get("uniforms", ()):
+            self.set_material(entry)
+
+    def set_material(self, entry):
+        value = entry["value"]
+        if value is None:
+            return
+        if entry.get("members") and not (self.block is not None and self.block.has(entry["name"])):
+            for f, v in zip(entry["members"], value):        # a struct uniform: one uniform per member
+                self.set("%s.%s" % (entry["name"], f["name"]), v)
+            return
+        t = entry["type"]
+        if t.startswith("mat"):
+            value = np.asarray(value, dtype="f4").tobytes()
+        elif "[" in t and isinstance(value, (list, tuple)) and value and isinstance(value[0], (list, tuple)):
+            value = [tuple(v) for v in value]
+        elif isinstance(value, list):
+            value = tuple(value)
+        self.set(entry["name"], value)
+
+    def upload(self):
+        if self.block is not None:
+            self.block.upload()
 
     def release(self):
         if self.vao is not None:
             self.vao.release()
+        if self.block is not None:
+            self.block.release()
         self.prog.release()
         self.vao = None
 
@@ -386,14 +524,19 @@ class Renderer:
     def prepare(self, vertex, fragment, manifest=None, textures=None, vertex_array=True):
         """Link a shader for drawing (Prepared). textures: {sampler uniform: file} over the manifest's.
         vertex_array=False leaves the vertex array to the first draw (render_timed times linking alone)."""
-        prog = self.ctx.program(vertex_shader=vertex, fragment_shader=fragment)
+        from .targets import for_opengl
+        manifest = manifest or {}
+        prog = self.ctx.program(vertex_shader=for_opengl(vertex), fragment_shader=for_opengl(fragment))
+        block = UniformBlock(self.ctx, prog, manifest["uniform_block"]) if manifest.get("uniform_block") else None
         bound, defaults = {}, {}
         for tex in (manifest or {}).get("textures", []):
             bound[tex["uniform"]] = tex.get("file")
             defaults[tex["uniform"]] = tex.get("default")
         bound.update(textures or {})
         samplers = [(name, path, defaults.get(name)) for name, path in sorted(bound.items())]
-        prepared = Prepared(prog, None, samplers, manifest)
+        prepared = Prepared(prog, None, samplers, manifest, block)
+        if manifest.get("target", "glsl") != "glsl":     # no initializers: the manifest's values
+            prepared.set_defaults()
         if vertex_array:
             prepared.vao = self._vertex_array(prog)
         return prepared
@@ -438,19 +581,18 @@ class Renderer:
         if self.scene.env_matrix is not None:
             mats["u_envMatrix"] = np.array(self.scene.env_matrix)
         for name, m in mats.items():
-            if name in prog:
-                prog[name].write(np.ascontiguousarray(m.T, dtype="f4").tobytes())
+            prepared.set(name, np.ascontiguousarray(m.T, dtype="f4").tobytes())
         scalars = {"u_viewPosition": tuple(float(x) for x in camera.eye), "u_envRadianceMips": self.env_mips,
                    "u_envRadianceSamples": self.env_samples if env_samples is None else env_samples,
                    "u_envLightIntensity": 1.0, "u_numActiveLightSources": 0,
                    "u_envSampleFrame": int(sample_frame[0]), "u_envSampleFrames": int(sample_frame[1])}
         for name, value in scalars.items():
-            if name in prog:
-                prog[name].value = value
+            prepared.set(name, value)
         lights = self.lights if lights is None else lights
         if lights:
             from .lights import bind_lights
-            bind_lights(prog, lights)
+            bind_lights(prepared, lights)
+        prepared.upload()
 
     def draw(self, prepared, target=None, camera=None, clear=True, **binding):
         """Draw a Prepared shader into `target` (a framebuffer; this renderer's own when None) from `camera`,

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from mtlxgen import images, pipeline
-from mtlxgen.emit import read_lib_file
+from mtlxgen.emit import lib_source
 from mtlxgen import render
 from mtlxgen.render import Renderer, create_context
 from readme_tables import readme_text, table_differences, table_rows
@@ -228,7 +228,7 @@ def bsdf_eval():
            for d in (L, V)]
     fbo = ctx.framebuffer(color_attachments=[ctx.texture((GRID, GRID), 4, dtype="f4")])
     quad = ctx.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32).tobytes())
-    lib = "\n".join(read_lib_file(f)[0] for f in ["constants.glsl", "closures.glsl", "pbrlib/microfacet/fresnel.glsl",
+    lib = lib_source(["constants.glsl", "closures.glsl", "pbrlib/microfacet/fresnel.glsl",
                                                  "pbrlib/microfacet/thin_film.glsl", "pbrlib/microfacet/ggx.glsl",
                                                  "lighting/environment.glsl", "lighting/hammersley.glsl",
                                                  "enterprise/tables.glsl", "enterprise/frame.glsl",

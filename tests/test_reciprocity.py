@@ -21,7 +21,7 @@ import pytest
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from mtlxgen import mxtypes, nodes  # noqa: E402
-from mtlxgen.emit import read_lib_file  # noqa: E402
+from mtlxgen.emit import lib_source, read_lib_file  # noqa: E402
 from tests.readme_tables import readme_table, table_differences, table_rows  # noqa: E402
 
 REL_TOL = 1.0e-3
@@ -173,9 +173,7 @@ def build_shader(case, library):
 
     expr = re.sub(r"\{\{(.*?)\}\}", field, template)
     # static (string) inputs that are swept, like sheen's mode, are baked in: one shader per value
-    parts = ["#version 400"]
-    for rel in _lib_files(files):
-        parts.append("// ---- glsl_lib/%s\n%s" % (rel, read_lib_file(rel)[0]))
+    parts = ["#version 400", lib_source(_lib_files(files))]
     parts += decls
     parts.append("""
 uniform vec3 u_dirs[%(n)d];

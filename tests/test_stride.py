@@ -12,7 +12,7 @@ import pytest
 
 from mtlxgen import pipeline
 from mtlxgen.diagnostics import MtlxError
-from mtlxgen.emit import read_lib_file
+from mtlxgen.emit import lib_source
 from util import write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -117,7 +117,7 @@ def evaluate(inputs):
         t.filter = (ctx.NEAREST, ctx.NEAREST)
     fbo = ctx.framebuffer(color_attachments=[ctx.texture((GRID, GRID), 4, dtype="f4")])
     quad = ctx.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32).tobytes())
-    lib = "\n".join(read_lib_file(f)[0] for f in LIB)
+    lib = lib_source(LIB)
 
     def run(expr, pre=""):
         fragment = """#version 400

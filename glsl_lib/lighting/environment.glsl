@@ -1,12 +1,7 @@
 // requires: constants.glsl
+// uniforms: u_envMatrix u_envRadiance u_envIrradiance u_envLightIntensity u_envRadianceMips u_envRadianceSamples
 // Image-based lighting from a lat-long environment (interface.md): u = atan(d.x, -d.z) / 2pi + 0.5,
 // v = -asin(d.y) / pi + 0.5 of the direction d after u_envMatrix; row 0 of the image is the top.
-uniform mat4 u_envMatrix = mat4(-1.0, 0.0, 0.0, 0.0,  0.0, 1.0, 0.0, 0.0,  0.0, 0.0, -1.0, 0.0,  0.0, 0.0, 0.0, 1.0);
-uniform sampler2D u_envRadiance;
-uniform sampler2D u_envIrradiance;
-uniform float u_envLightIntensity = 1.0;
-uniform int u_envRadianceMips = 1;
-uniform int u_envRadianceSamples = 16;
 
 vec2 mg_latlong_uv(vec3 dir)
 {

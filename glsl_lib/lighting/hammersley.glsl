@@ -1,8 +1,25 @@
+// uniforms: u_envSampleFrame u_envSampleFrames
 // The Hammersley point set: point i of n is (i / n, radical inverse of i in base 2) (Hammersley 1964;
 // Pharr et al., "Physically Based Rendering", sec. 7.4).
+
+// The 32 bits of v in reverse order. GLSL ES 3.00 lacks bitfieldReverse (GLSL 4.00 has it): there the
+// halves, bytes, nibbles, bit pairs and bits swap in turn (Warren, "Hacker's Delight", sec. 7-1).
+uint mg_reverse_bits(uint v)
+{
+#ifdef GL_ES
+    v = (v >> 16u) | (v << 16u);
+    v = ((v >> 8u) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8u);
+    v = ((v >> 4u) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4u);
+    v = ((v >> 2u) & 0x33333333u) | ((v & 0x33333333u) << 2u);
+    return ((v >> 1u) & 0x55555555u) | ((v & 0x55555555u) << 1u);
+#else
+    return bitfieldReverse(v);
+#endif
+}
+
 vec2 mg_hammersley(int i, int n)
 {
-    return vec2((float(i) + 0.5) / float(n), float(bitfieldReverse(uint(i))) * 2.3283064365386963e-10);
+    return vec2((float(i) + 0.5) / float(n), float(mg_reverse_bits(uint(i))) * 2.3283064365386963e-10);
 }
 
 // Progressive refinement (a viewer accumulating frames while its camera is still): frame u_envSampleFrame of
@@ -10,8 +27,6 @@ vec2 mg_hammersley(int i, int n)
 // (Sobol 1967), a (0, 2)-sequence in base 2: for n a power of two each frame's block is a (0, m, 2)-net on its
 // own, and the K frames' blocks together are the first n K points, so the mean of the K images is an estimate
 // with n K samples. With one frame (the defaults) the points are the Hammersley set, as before.
-uniform int u_envSampleFrame = 0;
-uniform int u_envSampleFrames = 1;
 
 // Sobol's second dimension: bit j of t contributes the j-th row of Pascal's triangle mod 2, read from the top bit.
 uint mg_sobol2(uint t)
@@ -30,7 +45,7 @@ vec2 mg_env_sample_point(int i, int n)
     if (frames == 1)
         return mg_hammersley(i, n);
     uint t = uint(clamp(u_envSampleFrame, 0, frames - 1) * n + i);
-    float x = float(bitfieldReverse(t)) * 2.3283064365386963e-10 + 0.5 / float(n * frames);
+    float x = float(mg_reverse_bits(t)) * 2.3283064365386963e-10 + 0.5 / float(n * frames);
     return vec2(x, float(mg_sobol2(t)) * 2.3283064365386963e-10);
 }
 

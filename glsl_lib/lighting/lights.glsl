@@ -1,23 +1,9 @@
 // requires: lighting/light_shaders.glsl
+// uniforms: u_lightData u_numActiveLightSources
 // Direct lights bound by the application as u_lightData[] (the lights library's point, directional and
 // spot lights; `mtlxgen render --lights RIG.mtlx` binds a light-rig document). type: 1 point,
-// 2 directional, 3 spot (the order of lights_defs.mtlx); 0 = unused. Spot angles are cosines.
-#define MG_MAX_LIGHTS 8
-
-struct LightData
-{
-    int type;
-    vec3 position;
-    vec3 direction;
-    vec3 color;
-    float intensity;
-    float decay_rate;
-    float inner_angle;
-    float outer_angle;
-};
-
-uniform LightData u_lightData[MG_MAX_LIGHTS];
-uniform int u_numActiveLightSources = 0;
+// 2 directional, 3 spot (the order of lights_defs.mtlx); 0 = unused. Spot angles are cosines. The record
+// (struct LightData) and MG_MAX_LIGHTS are declared with the uniforms (mtlxgen/interface.py).
 
 // Direction towards the light (L) and the radiance-scaled irradiance it delivers at P.
 void mg_sample_light(LightData light, vec3 P, out vec3 L, out vec3 intensity)

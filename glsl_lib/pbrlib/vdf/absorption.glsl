@@ -1,9 +1,9 @@
 // requires: closures.glsl
+// uniforms: u_vdfThickness
 // absorption_vdf (MaterialX Specification 1.39, pbrlib) applied to what is seen through a surface:
 // Beer–Lambert transmittance exp(-σa d) (Beer 1852; Lambert 1760). A surface shader does not know how far
 // the view ray travels inside the object, so the path length d is a fixed u_vdfThickness scene units
 // (1 by default: σ reads as the optical depth of one unit, the convention of MaterialX's renders).
-uniform float u_vdfThickness = 1.0;
 
 float mg_vdf_path_length()
 {

@@ -1,5 +1,5 @@
+// uniforms: u_frame
 // time / frame (MaterialX Specification 1.39, "Application Nodes"): the application drives u_frame.
-uniform float u_frame = 0.0;
 
 float mg_frame()
 {

@@ -1,0 +1,98 @@
+"""The application interface: the uniforms a renderer binds besides the material's own inputs.
+
+One table, read by the emitter (which declares the ones a shader reads, per target), the manifest (which
+lists them with their defaults for targets without initializers) and render.py (which binds them). The
+names and meanings are MaterialX GenGlsl's (../shared/docs/interface.md), so a viewer that binds MaterialX's
+programs binds ours; the defaults are what a shader draws with when the application sets nothing.
+
+A glsl_lib file that reads one names it in a `// uniforms: NAME ...` header line (emit.read_lib_file); a
+handler asks for one with Emitter.app_uniform; a stream's vertex expression lists the ones it needs.
+"""
+from dataclasses import dataclass
+
+MAX_LIGHTS = 8          # u_lightData's length (MG_MAX_LIGHTS in the GLSL)
+
+ENV_MATRIX = (-1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0)
+IDENTITY = (1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0)
+
+# The light record u_lightData[] holds (lights.py fills it; glsl_lib/lighting/lights.glsl reads it): type 1 point,
+# 2 directional, 3 spot (the order of lights_defs.mtlx), 0 unused; spot angles are cosines.
+LIGHT_DATA = (("type", "int"), ("position", "vec3"), ("direction", "vec3"), ("color", "vec3"),
+              ("intensity", "float"), ("decay_rate", "float"), ("inner_angle", "float"), ("outer_angle", "float"))
+
+
+@dataclass(frozen=True)
+class AppUniform:
+    name: str
+    type: str              # GLSL type (of one element, for arrays)
+    default: object        # a number, a tuple (vectors; matrices column-major), None: no value (samplers, structs)
+    meaning: str
+    length: int = 0        # array length; 0: not an array
+
+    @property
+    def declared_type(self):
+        return self.type
+
+    @property
+    def array_suffix(self):
+        return "[MG_MAX_LIGHTS]" if self.name == "u_lightData" else ("[%d]" % self.length if self.length else "")
+
+
+TABLE = {u.name: u for u in [
+    AppUniform("u_worldMatrix", "mat4", IDENTITY, "object to world"),
+    AppUniform("u_viewProjectionMatrix", "mat4", IDENTITY,
+               "world to clip: gl_Position = u_viewProjectionMatrix * u_worldMatrix * p"),
+    AppUniform("u_worldInverseTransposeMatrix", "mat4", IDENTITY, "normals, object to world"),
+    AppUniform("u_worldInverseMatrix", "mat4", IDENTITY, "world to object"),
+    AppUniform("u_viewPosition", "vec3", (0.0, 0.0, 0.0), "camera position, world space"),
+    AppUniform("u_envMatrix", "mat4", ENV_MATRIX, "environment rotation (world direction to lat-long frame)"),
+    AppUniform("u_envRadiance", "sampler2D", None, "lat-long HDR radiance with a full mip chain"),
+    AppUniform("u_envIrradiance", "sampler2D", None, "lat-long irradiance"),
+    AppUniform("u_envLightIntensity", "float", 1.0, "environment multiplier"),
+    AppUniform("u_envRadianceMips", "int", 1, "u_envRadiance's mip count, floor(log2(max(w, h))) + 1"),
+    AppUniform("u_envRadianceSamples", "int", 16, "samples per lobe for filtered importance sampling"),
+    AppUniform("u_envSampleFrame", "int", 0, "progressive refinement: this frame's index"),
+    AppUniform("u_envSampleFrames", "int", 1, "progressive refinement: frames accumulated (1: none)"),
+    AppUniform("u_numActiveLightSources", "int", 0, "direct lights in u_lightData"),
+    AppUniform("u_lightData", "LightData", None, "direct lights (struct LightData)", MAX_LIGHTS),
+    AppUniform("u_frame", "float", 0.0, "frame number (the time and frame nodes)"),
+    AppUniform("u_vdfThickness", "float", 1.0, "path length through a volume (scene units)"),
+]}
+
+SAMPLER_TYPES = ("sampler2D",)
+
+
+def types_needed(names):
+    """GLSL declarations the named uniforms' types need before them (the light record and its length)."""
+    if "u_lightData" not in names:
+        return []
+    return ["#define MG_MAX_LIGHTS %d" % MAX_LIGHTS,
+            "struct LightData { %s };" % " ".join("%s %s;" % (t, n) for n, t in LIGHT_DATA)]
+
+
+def glsl_value(u):
+    """The GLSL initializer of a uniform's default (None for those without one)."""
+    d = u.default
+    if d is None:
+        return None
+    if u.type == "int":
+        return str(int(d))
+    if u.type == "float":
+        return _float(d)
+    if u.type == "mat4" and d == IDENTITY:
+        return "mat4(1.0)"
+    return "%s(%s)" % (u.type, ", ".join(_float(x) for x in d))
+
+
+def _float(x):
+    r = repr(float(x))
+    return r if ("." in r or "e" in r) else r + ".0"
+
+
+def manifest_entry(u):
+    """The manifest's record of an application uniform: name, GLSL type, default, meaning."""
+    entry = {"name": u.name, "type": u.type + u.array_suffix.replace("MG_MAX_LIGHTS", str(MAX_LIGHTS)),
+             "default": list(u.default) if isinstance(u.default, tuple) else u.default, "meaning": u.meaning}
+    if u.name == "u_lightData":
+        entry["members"] = [{"name": n, "type": t} for n, t in LIGHT_DATA]
+    return entry
