@@ -176,7 +176,18 @@ def _generate(args):
 
 def _session_options(args):
     """How shaders are generated, beyond the document: pipeline.Session keywords from the options."""
-    return {"target": args.target}
+    return {"target": args.target, "interface": _interface(args)}
+
+
+def _interface(args):
+    """The reduce.Interface of --interface, --keep and --keep-file (a keep file's problems: FILE:LINE)."""
+    from . import reduce
+    if (args.keep or args.keep_file) and args.interface == "complete":
+        raise MtlxError((Loc(args.keep_file or getattr(args, "file", None) or "mtlxgen", 0),
+                         "--keep and --keep-file name inputs kept editable in the reduced interface (every input "
+                         "is a uniform in the complete one): use them with --interface reduced"))
+    kind = args.interface or ("reduced" if args.keep or args.keep_file else "complete")
+    return reduce.interface(kind, args.keep, args.keep_file)
 
 
 def cmd_generate(args):
@@ -249,6 +260,7 @@ def _samples(text):
 def cmd_view(args):
     from . import view
     args.usd_options = _usd_options(args)
+    args.shader_interface = _interface(args)
     if (args.screenshot or args.capture_window) and args.headless_frames is None:
         raise MtlxError((Loc(args.file, 0), "--screenshot and --capture-window go with --headless-frames N "
                                             "(in the window: key C)"))
@@ -410,8 +422,21 @@ def build_parser():
     ap = _Parser(prog="mtlxgen", description="MaterialX documents to GLSL shaders")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
+    def shader_interface(p):
+        p.add_argument("--interface", choices=("complete", "reduced"), default=None,
+                       help="complete = every public input a uniform named as MaterialX names it (default); reduced "
+                            "= unconnected inputs become constants and what they make constant is computed at "
+                            "generation time (inputs marked uniform=\"true\" and those named by --keep stay uniforms)")
+        p.add_argument("--keep", action="append", default=[], metavar="NAME",
+                       help="reduced interface: keep this input a uniform (repeatable): its uniform name as the "
+                            "complete manifest lists it, or NODE/INPUT; a name that names nothing is an error")
+        p.add_argument("--keep-file", metavar="FILE", type=_readable_file,
+                       help="reduced interface: names to keep uniforms, one a line or a JSON list (or a manifest "
+                            "of ours: its kept inputs, else its uniforms)")
+
     def generation(p):
         """Options of how shaders are generated (_session_options), for every command that generates."""
+        shader_interface(p)
         p.add_argument("--target", choices=TARGET_NAMES, default="glsl",
                        help="shading language: glsl = desktop GLSL 4.00 (default), essl = GLSL ES 3.00 for WebGL2 "
                             "(no uniform initializers: the manifest's values and \"application\" defaults are bound), "
@@ -472,6 +497,7 @@ def build_parser():
 
     p = sub.add_parser("view", help="a live window drawing the document's elements, redrawn as it is edited")
     common(p)
+    shader_interface(p)
     p.add_argument("--element", metavar="NAME", type=_name, help="the element to show first (Tab cycles them)")
     p.add_argument("--env", metavar="FILE", type=_readable_file,
                    help="lat-long HDR/EXR environment (default: built-in sky)")

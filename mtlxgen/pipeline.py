@@ -29,8 +29,10 @@ class Session:
     warnings raises where it is built (nothing of it written)."""
 
     def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None, environment="fis",
-                 usd_options=None, strict=False, warnings=None, target="glsl"):
+                 usd_options=None, strict=False, warnings=None, target="glsl", interface=None):
         self.path = path
+        from .reduce import Interface
+        self.interface = interface if isinstance(interface, Interface) else Interface(interface or "complete")
         self.environment = environment
         self.target = targets.get(target).name
         self.strict = strict
@@ -79,7 +81,15 @@ class Session:
                                                   if w not in self.doc_warnings])
 
     def shader(self, name):
-        shader = glslcheck.check(emit.emit(self.graph(name), environment=self.environment, target=self.target))
+        g, kept = self.graph(name), None
+        if self.interface.reduced:          # reduce.py: constants in the code, then fold.py computes them
+            from . import fold, reduce
+            g, kept = reduce.reduce(g, self.interface)
+            g = fold.fold(g)
+        shader = glslcheck.check(emit.emit(g, environment=self.environment, target=self.target))
+        shader.manifest["interface"] = self.interface.kind
+        if kept is not None:
+            shader.manifest["kept"] = kept
         if self.stage is not None and name in self.stage.materials:
             shader.manifest["usd"] = self.stage.manifest(name)
         return shader
@@ -96,7 +106,7 @@ class Session:
 
 
 def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis",
-             usd_options=None, strict=False, warnings=None, target="glsl"):
+             usd_options=None, strict=False, warnings=None, target="glsl", interface=None):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
 
     usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
@@ -110,11 +120,15 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
     target: "glsl" (desktop GLSL 4.00), "essl" (WebGL2's GLSL ES 3.00) or "vulkan" (GLSL 4.50 for SPIR-V):
     targets.py.
 
+    interface: "complete" (default: every public input a uniform), "reduced" or a reduce.Interface (the reduced
+    interface with inputs kept editable): reduce.py. A kept name that names no input of the elements generated is
+    a problem.
+
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
     session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options, strict, warnings,
-                      target)
+                      target, interface)
     problems, shaders = Problems(), []
     for loc, message in session.notes():
         problems.add(loc, message)
@@ -124,6 +138,9 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
         except MtlxError as e:
             problems.extend(e)
         for loc, message in session.notes(name):
+            problems.add(loc, message)
+    if shaders:                         # a name kept (--keep) that named nothing drawn
+        for loc, message in session.interface.unmatched(path):
             problems.add(loc, message)
     emit.unique_stems(shaders)          # one output folder holds them all
     if partial:

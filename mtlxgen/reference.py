@@ -11,7 +11,7 @@ class ReferenceUnavailable(RuntimeError):
 
 
 class MaterialXReference:
-    def __init__(self, search_dirs=(), color_management=False):
+    def __init__(self, search_dirs=(), color_management=False, reduced=False):
         try:
             import MaterialX as mx
             import MaterialX.PyMaterialXGenGlsl as mx_glsl
@@ -28,6 +28,9 @@ class MaterialXReference:
         # MaterialX applies file colour spaces only with a colour management system registered (as its
         # viewer does); the bare generator, and so the scoreboard, reads every file as lin_rec709
         self.color_management = color_management
+        # reduced: MaterialX's reduced shader interface (GenOptions.shaderInterfaceType =
+        # SHADER_INTERFACE_REDUCED: unconnected inputs become constants), to compare with ours like with like
+        self.reduced = reduced
 
     def load(self, path):
         doc = self.mx.createDocument()
@@ -48,6 +51,8 @@ class MaterialXReference:
             cms.loadLibrary(self.lib)
             gen.setColorManagementSystem(cms)
         ctx = self.mx_gen.GenContext(gen)
+        if self.reduced:
+            ctx.getOptions().shaderInterfaceType = self.mx_gen.ShaderInterfaceType.SHADER_INTERFACE_REDUCED
         ctx.registerSourceCodeSearchPath(self.search)
         t = time.perf_counter()
         shader = gen.generate("s", doc.getDescendant(element), ctx)

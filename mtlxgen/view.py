@@ -158,8 +158,9 @@ class OurGenerator:
     """mtlxgen's pipeline as the viewer drives it: open() reads a document (a pipeline.Session), shader()
     generates one element. Another generator (a benchmark's MaterialX one) offers the same four methods."""
 
-    def __init__(self, library_dirs=(), usd_options=None, strict=False, usd_seed_rules=None):
+    def __init__(self, library_dirs=(), usd_options=None, strict=False, usd_seed_rules=None, interface=None):
         self.library_dirs = tuple(library_dirs)
+        self.interface = interface          # None / "complete", "reduced" or a reduce.Interface (--interface)
         self.usd_options = usd_options
         self.strict = strict
         self.usd_seed_rules = usd_seed_rules
@@ -169,7 +170,7 @@ class OurGenerator:
         from .diagnostics import Warnings
         warnings = Warnings()
         session = pipeline.Session(path, None, self.library_dirs, self.usd_seed_rules, environment, self.usd_options,
-                                   self.strict, warnings)
+                                   self.strict, warnings, interface=self.interface)
         session.warning_list = warnings
         return session
 
@@ -1135,7 +1136,8 @@ def run(args):
     size = tuple(args.size)
     headless = args.headless_frames is not None
     window = open_window(size, headless)
-    generator = OurGenerator(args.library, getattr(args, "usd_options", None), args.strict, args.usd_seed_rules)
+    generator = OurGenerator(args.library, getattr(args, "usd_options", None), args.strict, args.usd_seed_rules,
+                             getattr(args, "shader_interface", None))
     viewer = None
     try:
         viewer = Viewer(window.ctx, args.file, size=window.framebuffer_size() if not headless else size,
