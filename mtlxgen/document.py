@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 from . import mxtypes
 from .diagnostics import Loc, MtlxError, Problems
-from .xmlreader import read_file
+from .xmlreader import gc_paused, read_file
 
 # Element tags that are not nodes.
 NON_NODE_TAGS = {
@@ -143,6 +143,11 @@ def version_tuple(v):
         return (0,)
 
 
+# port attributes kept as the document writes them (Port fields of the same names)
+_PORT_TEXT_ATTRS = frozenset(("nodename", "nodegraph", "output", "interfacename", "defaultgeomprop", "defaultinput",
+                              "colorspace", "unit", "unittype", "enum", "enumvalues", "channels"))
+
+
 class _Builder:
     def __init__(self, doc, problems):
         self.doc = doc
@@ -157,12 +162,12 @@ class _Builder:
         type_name = a.get("type", "")
         if not type_name and kind != "token":
             self.problems.add(el.loc, "%s '%s' has no type" % (kind, name))
-        p = Port(name=name, type=type_name or "string", loc=el.loc, kind=kind,
-                 nodename=a.get("nodename"), nodegraph=a.get("nodegraph"), output=a.get("output"),
-                 interfacename=a.get("interfacename"), defaultgeomprop=a.get("defaultgeomprop"),
-                 defaultinput=a.get("defaultinput"), colorspace=a.get("colorspace"),
-                 unit=a.get("unit"), unittype=a.get("unittype"), uniform=a.get("uniform") == "true",
-                 enum=a.get("enum"), enumvalues=a.get("enumvalues"), channels=a.get("channels"))
+        p = Port(name, type_name or "string", el.loc, kind)
+        for key in a:                       # the attributes a port keeps as written (most ports have none)
+            if key in _PORT_TEXT_ATTRS:
+                setattr(p, key, a[key])
+        if "uniform" in a:
+            p.uniform = a["uniform"] == "true"
         text = a.get("value")
         if text is not None:
             if p.type == "filename" and ctx.get("fileprefix") and text:
@@ -261,12 +266,14 @@ def _qualify(namespace, name):
     return namespace + ":" + name
 
 
+_CTX_KEYS = ("fileprefix", "geomprefix", "colorspace", "namespace")
+
+
 def _child_ctx(ctx, el):
-    keys = ("fileprefix", "geomprefix", "colorspace", "namespace")
-    if not any(k in el.attrs for k in keys):
+    if el.attrs.keys().isdisjoint(_CTX_KEYS):
         return ctx
     new = dict(ctx)
-    for k in keys:
+    for k in _CTX_KEYS:
         if k in el.attrs:
             new[k] = el.attrs[k]
     return new
@@ -502,6 +509,7 @@ def _substitute_tokens(doc):
             substitute(port, node.tokens)
 
 
+@gc_paused()
 def load(path, search_paths=(), source="document"):
     """Read and build a document from a .mtlx file."""
     root = read_file(path, search_paths)

@@ -4,6 +4,7 @@ import os
 from . import document, emit, glslcheck, graph, library, targets
 from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
 from .resolve import search_paths
+from .xmlreader import gc_paused
 
 
 def load_document(path, library_dirs=(), usd_options=None):
@@ -105,6 +106,7 @@ class Session:
         return list(m.notes) if m is not None else []
 
 
+@gc_paused()       # hundreds of thousands of objects, no cycles: the collector only slows a large graph 2-3x
 def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis",
              usd_options=None, strict=False, warnings=None, target="glsl", interface=None):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).

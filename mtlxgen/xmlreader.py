@@ -8,18 +8,21 @@ roots (files.allowed_roots: the document's folder, the search paths, the data li
 Elements nest at most MAX_DEPTH levels, includes spliced in counted, so nothing later recurses deeply.
 """
 import codecs
+import contextlib
+import gc
 import importlib
 import os
 import re
 import xml.parsers.expat
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from . import files
 from .diagnostics import Loc, MtlxError
 
 MAX_DEPTH = 256          # MaterialX documents nest about 5 levels
 MAX_INCLUDES = 1024      # included files read for one document (a diamond of includes multiplies reads)
-MAX_ELEMENTS = 250_000   # elements of one document, includes counted (MaterialX's largest library: ~20,000)
+MAX_ELEMENTS = 500_000   # elements of one document, includes counted (MaterialX's largest library: ~20,000; a graph
+                         # of 100,000 nodes with two inputs each: 300,000)
 MAX_TOTAL_BYTES = 4 * files.MAX_TEXT_BYTES     # bytes read for one document, includes counted
 
 
@@ -29,17 +32,51 @@ class _Budget:
     includes: int = 0
     elements: int = 0
     bytes: int = 0
+    include_tags: int = 0       # elements that may be includes (tags ending in 'include'): none, nothing to splice
 
 
-@dataclass
+class gc_paused(contextlib.ContextDecorator):
+    """Python's cyclic garbage collector off for a while (a `with` block or a decorated function; nested: the
+    outermost turns it back on). Reading and generating a large document builds hundreds of thousands of objects
+    that hold no cycles; the collector, run every few hundred new objects, walks them again and again (a
+    100,000-node chain took 2-3x as long with it on)."""
+
+    def _recreate_cm(self):         # each call of a decorated function its own state (threads, recursion)
+        return type(self)()
+
+    def __enter__(self):
+        self._was = gc.isenabled()
+        gc.disable()
+        return self
+
+    def __exit__(self, *exc):
+        if self._was:
+            gc.enable()
+        return False
+
+
 class XElement:
-    tag: str
-    attrs: dict
-    loc: Loc
-    children: list = field(default_factory=list)
+    """An element: tag, attributes, where it starts (Loc) and child elements."""
+    __slots__ = ("tag", "attrs", "loc", "children")
+
+    def __init__(self, tag, attrs, loc, children=None):
+        self.tag = tag
+        self.attrs = attrs
+        self.loc = loc
+        self.children = [] if children is None else children
 
     def get(self, key, default=None):
         return self.attrs.get(key, default)
+
+    def __repr__(self):
+        return "XElement(%r, %r, %r, %d children)" % (self.tag, self.attrs, self.loc, len(self.children))
+
+    def __eq__(self, other):
+        if not isinstance(other, XElement):
+            return NotImplemented
+        return (self.tag, self.attrs, self.loc, self.children) == (other.tag, other.attrs, other.loc, other.children)
+
+    __hash__ = None
 
 
 class _Refused(Exception):
@@ -108,22 +145,32 @@ def parse_text(text, path, budget=None):
     parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
     root_holder = []
     stack = []
+    push, pop = stack.append, stack.pop
+    max_depth = MAX_DEPTH
+    room = [MAX_ELEMENTS - budget.elements]      # elements this document may still add
+    locs = {}                                    # line -> Loc: elements on one line share it
 
     def start(tag, attrs):
-        if len(stack) >= MAX_DEPTH:
+        if len(stack) >= max_depth:
             raise _Refused("elements nest more than %d levels deep" % MAX_DEPTH)
-        budget.elements += 1
-        if budget.elements > MAX_ELEMENTS:
+        room[0] -= 1
+        if room[0] < 0:
             raise _Refused("more than %d elements (includes counted)" % MAX_ELEMENTS)
-        el = XElement(tag, attrs, Loc(path, parser.CurrentLineNumber))
+        line = parser.CurrentLineNumber
+        loc = locs.get(line)
+        if loc is None:
+            loc = locs[line] = Loc(path, line)
+        el = XElement(tag, attrs, loc)
+        if tag.endswith("include"):
+            budget.include_tags += 1
         if stack:
             stack[-1].children.append(el)
         else:
             root_holder.append(el)
-        stack.append(el)
+        push(el)
 
     def end(tag):
-        stack.pop()
+        pop()
 
     def refuse_entity(*args):
         raise _Refused("entity declarations are not allowed")
@@ -136,11 +183,14 @@ def parse_text(text, path, budget=None):
     parser.EntityDeclHandler = refuse_entity
     parser.ExternalEntityRefHandler = refuse_external
     try:
-        parser.Parse(text.encode("utf-8"), True)
+        with gc_paused():           # the tree holds no cycles
+            parser.Parse(text.encode("utf-8"), True)
     except xml.parsers.expat.ExpatError as e:
         raise MtlxError((Loc(path, e.lineno), "malformed XML: %s" % xml.parsers.expat.ErrorString(e.code))) from None
     except _Refused as e:
         raise MtlxError((Loc(path, parser.CurrentLineNumber), str(e))) from None
+    finally:
+        budget.elements = MAX_ELEMENTS - room[0]
     if not root_holder:
         raise MtlxError((Loc(path, 1), "empty document"))
     return root_holder[0]
@@ -164,8 +214,9 @@ def read_file(path, search_paths=()):
     path = os.path.abspath(path)
     budget = _Budget()
     root = _read_document(path, Loc(path, 0), "the document", budget)
-    roots = files.allowed_roots(path, search_paths)
-    _expand_includes(root, path, search_paths, roots, budget)
+    if budget.include_tags:         # else nothing to splice (and the parse bounded the nesting)
+        roots = files.allowed_roots(path, search_paths)
+        _expand_includes(root, path, search_paths, roots, budget)
     return root
 
 
