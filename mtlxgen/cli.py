@@ -1,4 +1,4 @@
-"""Command line: mtlxgen generate | render | info | view | golden check/update | report | batch.
+"""Command line: mtlxgen generate | render | info | view | web | three | golden check/update | report | batch.
 
 Errors in input print one `FILE:LINE: problem` line each on stderr and exit with status 1; so do
 usage errors and bad option values (`mtlxgen CMD: error: argument OPT: problem`), checked before any
@@ -267,6 +267,47 @@ def cmd_view(args):
     return view.run(args)
 
 
+def _web_shaders(args):
+    """web, three: each element's GLSL ES 3.00 shaders (elements with problems reported, the others written),
+    and the environment (--env, bounded for a page; None: the built-in sky)."""
+    from . import web
+    env = web.read_environment(args.env) if args.env else None
+    shaders, error = _generate(args)
+    return shaders, env, list(error.problems) if error is not None else []
+
+
+def cmd_web(args):
+    from . import web
+    shaders, env, problems = _web_shaders(args)
+    environment = web.environment_payload(env) if shaders else None
+    for s in shaders:
+        try:
+            print(web.write_page(s, args.output, environment, args.size, args.samples))
+        except MtlxError as e:      # a texture the page cannot embed: this element is not written, the others are
+            problems += [p for p in e.problems if p not in problems]
+    if problems:
+        raise MtlxError(problems)
+    return 0
+
+
+def cmd_three(args):
+    from . import three
+    shaders, env, problems = _web_shaders(args)
+    if shaders:
+        os.makedirs(args.output, exist_ok=True)
+        three.write_runtime(args.output)
+        three.write_environment(args.output, env)
+    textures = three.TextureFiles(args.output)
+    for s in shaders:
+        try:
+            print(three.write_element(s, args.output, textures, args.size, args.samples)[0])
+        except MtlxError as e:
+            problems += [p for p in e.problems if p not in problems]
+    if problems:
+        raise MtlxError(problems)
+    return 0
+
+
 def cmd_info(args):
     from . import pipeline
     options = _usd_options(args)
@@ -527,6 +568,30 @@ def build_parser():
     p.add_argument("--no-watch", action="store_true", help="do not reload when the files change (R reloads)")
     p.add_argument("--no-panel", action="store_true", help="no property panel")
     p.set_defaults(func=cmd_view)
+
+    def web_options(p, what):
+        common(p)
+        shader_interface(p)
+        p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
+        p.add_argument("--element", metavar="NAME", type=_name,
+                       help="only this element (name path; for a USD stage, a material's prim path or name)")
+        p.add_argument("--env", metavar="FILE", type=_readable_file,
+                       help="lat-long HDR/EXR environment %s (default: built-in sky)" % what)
+        p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=256, metavar="N",
+                       help="canvas width and height in pixels, 1 to %d (default: 256, as render)" % MAX_SIZE)
+        p.add_argument("--samples", type=_int_in(1, 65536), default=64, metavar="N",
+                       help="environment samples per lobe, u_envRadianceSamples (default: 64, as render)")
+        p.set_defaults(target="essl")
+
+    p = sub.add_parser("web", help="a self-contained WebGL2 page per element (NAME.html): render's sphere, camera and "
+                                   "environment, orbit controls; works opened from file://")
+    web_options(p, "embedded in the page")
+    p.set_defaults(func=cmd_web)
+
+    p = sub.add_parser("three", help="a three.js ES module per element (NAME.js: createMaterial(THREE) returns a "
+                                     "RawShaderMaterial), the shared mtlxgen_three.js, an example page NAME.html")
+    web_options(p, "the example pages light with (written as environment.exr)")
+    p.set_defaults(func=cmd_three)
 
     def pool(p):
         p.add_argument("-j", "--workers", type=_int_in(1, MAX_WORKERS), default=None, metavar="N",

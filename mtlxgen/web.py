@@ -1,0 +1,307 @@
+"""mtlxgen web: a self-contained WebGL2 page per element that draws what `mtlxgen render` draws.
+
+The page holds everything it needs, so it works opened from file:// with no network: the element's GLSL ES
+3.00 shaders (generate --target essl) and manifest, render's sphere, the environment's full mip chain and its
+irradiance map, and each texture's decoded pixels with their mip chains, base64 in a JSON block; the viewer
+(web_assets/viewer.js) is inlined. The page draws like render.Renderer: linear radiance into a float
+framebuffer (EXT_color_buffer_float), cleared to transparent black, depth-tested, no culling or blending; then
+an encode pass writes sRGB 8-bit with alpha as is into the canvas (images.to_srgb8), so the canvas holds the
+bytes render's PNG holds. Textures and the environment carry the mip chain render's GL build_mipmaps makes
+(mip_chain: bilinear at each texel's centre, a 2x2 box where sizes are even), wrap repeat, trilinear.
+Drag orbits, the wheel zooms, a double click returns to render's camera.
+
+Documents come from strangers: only files the manifest resolves are read, through images.read_image (regular
+files only, decoded, never copied), and what a page embeds is bounded (MAX_TEXTURE_PIXELS, MAX_ENV_PIXELS).
+"""
+import base64
+import json
+import os
+import re
+
+import numpy as np
+
+from .diagnostics import Loc, MtlxError
+
+ASSETS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web_assets")
+MAX_TEXTURE_PIXELS = 2 ** 22            # 2048 x 2048: one texture a page embeds
+MAX_TEXTURES_PIXELS = 2 ** 24           # all of a page's textures together
+MAX_ENV_PIXELS = 2 ** 21                # a 2048 x 1024 lat-long environment
+
+
+# ---------------------------------------------------------------- mip chains
+
+def _downsample(img, width, height):
+    """One level down: each texel bilinearly sampled at its centre's place in the level above, clamped at the
+    edges (what Mesa's mipmap generation does; for even sizes it is the 2x2 box)."""
+    src = np.asarray(img, dtype=np.float64)
+    h, w = src.shape[:2]
+    x = (np.arange(width) + 0.5) * w / width - 0.5
+    y = (np.arange(height) + 0.5) * h / height - 0.5
+    x0f, y0f = np.floor(x), np.floor(y)
+    fx, fy = (x - x0f)[None, :, None], (y - y0f)[:, None, None]
+    x0, x1 = np.clip(x0f.astype(int), 0, w - 1), np.clip(x0f.astype(int) + 1, 0, w - 1)
+    y0, y1 = np.clip(y0f.astype(int), 0, h - 1), np.clip(y0f.astype(int) + 1, 0, h - 1)
+    top = src[y0][:, x0] * (1.0 - fx) + src[y0][:, x1] * fx
+    bottom = src[y1][:, x0] * (1.0 - fx) + src[y1][:, x1] * fx
+    return (top * (1.0 - fy) + bottom * fy).astype(np.float32)
+
+
+def mip_chain(img):
+    """[level 0, 1, ... 1x1] of an (h, w, c) float image, as OpenGL's glGenerateMipmap sizes them
+    (each dimension halved, rounded down, at least 1)."""
+    levels = [np.ascontiguousarray(img, dtype=np.float32)]
+    while levels[-1].shape[0] > 1 or levels[-1].shape[1] > 1:
+        h, w = levels[-1].shape[:2]
+        levels.append(_downsample(levels[-1], max(1, w // 2), max(1, h // 2)))
+    return levels
+
+
+# ---------------------------------------------------------------- images as the page receives them
+
+HALF_MAX = 65504.0
+
+
+def _b64(array):
+    return base64.b64encode(np.ascontiguousarray(array).tobytes()).decode("ascii")
+
+
+def encode_image(levels, precision="auto"):
+    """{width, height, channels, type, levels: [base64]} of a mip chain. type f16 (RGB16F etc.: ample for
+    textures) where every value fits a half float, else f32; precision "f32" forces 32-bit floats."""
+    h, w, c = levels[0].shape
+    fits_half = all(np.isfinite(lv).all() and np.abs(lv).max(initial=0.0) <= HALF_MAX for lv in levels)
+    kind = "f16" if precision == "auto" and fits_half else "f32"
+    dtype = "<f2" if kind == "f16" else "<f4"
+    return {"width": int(w), "height": int(h), "channels": int(c), "type": kind,
+            "levels": [_b64(lv.astype(dtype)) for lv in levels]}
+
+
+def image_size(path):
+    """(width, height) from an image file's header, without decoding it; None where it does not read."""
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        oiio.geterror()
+        return None
+    try:
+        spec = inp.spec()
+        return spec.width, spec.height
+    finally:
+        inp.close()
+
+
+def _too_big(path, size, limit, what):
+    return MtlxError((Loc(path, 0), "%s of %dx%d pixels is larger than a web page embeds (at most %.1f "
+                                    "megapixels); use a smaller image" % (what, size[0], size[1], limit / 1e6)))
+
+
+def load_texture(path, budget):
+    """The (h, w, c) float image render binds for a manifest texture file, rows bottom first (as render
+    uploads images), or None where render draws the sampler's default instead (a missing or unreadable file).
+    A device, FIFO or system file is an error, as in render; so is an image past the page's bounds.
+    budget: [pixels left for this page's textures], decreased."""
+    from .files import check_regular
+    from .images import read_image
+    if not os.path.exists(path):
+        return None
+    check_regular(path, Loc(path, 0), "image file")
+    if path.lower().endswith(".ies"):          # measured_edf's profile, as render binds it (top row first)
+        from .ies import load_texture as ies_texture
+        try:
+            return np.asarray(ies_texture(path), dtype=np.float32)
+        except Exception:
+            return None
+    size = image_size(path)
+    if size is None:
+        return None
+    if size[0] * size[1] > MAX_TEXTURE_PIXELS:
+        raise _too_big(path, size, MAX_TEXTURE_PIXELS, "texture")
+    if size[0] * size[1] > budget[0]:
+        raise MtlxError((Loc(path, 0), "the textures of this element add up to more than a web page embeds "
+                                       "(%.1f megapixels)" % (MAX_TEXTURES_PIXELS / 1e6)))
+    try:
+        img = read_image(path)
+    except MtlxError:
+        return None
+    budget[0] -= size[0] * size[1]
+    return np.ascontiguousarray(img[::-1])
+
+
+def constant_image(value):
+    """render.Renderer.constant_texture's 1x1 RGBA of an image node's default colour."""
+    v = [float(x) for x in (value if isinstance(value, (list, tuple)) else [value])]
+    rgba = {1: v * 3 + [1.0], 2: v + [0.0, 1.0], 3: v + [1.0]}.get(len(v), v[:4])
+    return np.array(rgba, dtype=np.float32).reshape(1, 1, 4)
+
+
+def texture_payload(manifest):
+    """{"images": [...], "samplers": {uniform: image index}} for the manifest's textures, bound as
+    render.Renderer.bind binds them: the file's pixels with their mip chain, else its default colour
+    (1x1, no mips), else nothing (the page binds transparent black, as render does)."""
+    images, samplers, by_key = [], {}, {}
+    budget = [MAX_TEXTURES_PIXELS]
+    for tex in sorted(manifest.get("textures", []), key=lambda t: t["uniform"]):
+        path, default = tex.get("file"), tex.get("default")
+        key = img = None
+        if path:
+            key = ("file", os.path.realpath(path))
+            if key not in by_key:
+                img = load_texture(path, budget)
+                if img is None:
+                    key = None
+        if key is None and default is not None:
+            key = ("constant",) + tuple(constant_image(default).ravel().tolist())
+            if key not in by_key:
+                img = constant_image(default)
+        if key is None:
+            continue
+        if key not in by_key:
+            mips = key[0] == "file" and not path.lower().endswith(".ies")
+            entry = encode_image(mip_chain(img) if mips else [img])
+            entry["mipmaps"] = mips
+            entry["source"] = os.path.basename(path) if key[0] == "file" else "default colour"
+            by_key[key] = len(images)
+            images.append(entry)
+        samplers[tex["uniform"]] = by_key[key]
+    return {"images": images, "samplers": samplers}
+
+
+def environment_payload(environment=None):
+    """The radiance map's mip chain (32-bit float, top row first) and its SH irradiance map, as render binds
+    them for this environment (None: the built-in sky)."""
+    from . import render
+    env = render.builtin_sky() if environment is None else np.asarray(environment, dtype=np.float32)[..., :3]
+    radiance = encode_image(mip_chain(env), "f32")
+    radiance["mipmaps"] = True
+    irradiance = encode_image([render.irradiance_map(env)], "f32")
+    irradiance["mipmaps"] = False
+    return {"radiance": radiance, "irradiance": irradiance,
+            "mips": int(np.floor(np.log2(max(env.shape[:2])))) + 1, "matrix": list(_column_major(render.ENV_MATRIX))}
+
+
+def read_environment(path):
+    """A --env file as render reads it, bounded for a page."""
+    from . import render
+    size = image_size(path)
+    if size is not None and size[0] * size[1] > MAX_ENV_PIXELS:
+        raise _too_big(path, size, MAX_ENV_PIXELS, "environment")
+    return render.load_environment(path)
+
+
+def _column_major(rows):
+    m = np.array(rows, dtype=float)
+    return [float(x) for x in m.T.ravel()]
+
+
+def geometry_payload(attributes):
+    """render's sphere: the attributes the shader reads (of those render binds) and the index."""
+    from . import render
+    attrs, index = render.sphere()
+    out = {name: {"size": int(a.shape[1]), "data": _b64(a.astype("<f4"))}
+           for name, a in attrs.items() if name in attributes}
+    small = index.max() < 65536
+    return {"attributes": out, "index": _b64(index.astype("<u2" if small else "<u4")),
+            "index_type": "u16" if small else "u32", "count": int(index.size)}
+
+
+def camera_payload():
+    from . import render
+    c = render.DEFAULT_CAMERA
+    return {"eye": list(c.eye), "target": list(c.target), "up": list(c.up), "fov_y": c.fov_y, "near": c.near,
+            "far": c.far}
+
+
+# ---------------------------------------------------------------- WebGL's restrictions beyond GLSL ES 3.00
+
+_STRUCT = re.compile(r"\bstruct\s+(\w+)\s*\{")
+_DECLARATION = re.compile(r"^(\s*)(\w+) (\w+) = \(")
+
+
+def _closing_paren(text, start):
+    """Index of the ')' closing the '(' at text[start], or -1."""
+    depth = 0
+    for i in range(start, len(text)):
+        if text[i] == "(":
+            depth += 1
+        elif text[i] == ")":
+            depth -= 1
+            if depth == 0:
+                return i
+    return -1
+
+
+def webgl_source(source):
+    """GLSL ES 3.00 as WebGL accepts it. WebGL (ANGLE's validator) refuses `?:` whose operands are structs,
+    which GLSL ES 3.00 allows; the emitter's guarded closures are such declarations,
+    `BSDF v = (COND) ? EXPR : BSDF(...);`, each rewritten `BSDF v = BSDF(...); if (COND) v = EXPR;` (the same
+    value, EXPR still evaluated only where COND holds). Source without them comes back unchanged."""
+    structs = set(_STRUCT.findall(source))
+    if not structs:
+        return source
+    lines = source.split("\n")
+    for n, line in enumerate(lines):
+        m = _DECLARATION.match(line)
+        if not m or m.group(2) not in structs or not line.endswith(";"):
+            continue
+        indent, type_name, var = m.groups()
+        open_at = m.end() - 1
+        close_at = _closing_paren(line, open_at)
+        if close_at < 0 or not line.startswith(" ? ", close_at + 1):
+            continue
+        rest = line[close_at + 4:-1]
+        zero = type_name + "("
+        cut = rest.rfind(" : " + zero)
+        if cut < 0 or _closing_paren(rest, cut + 3 + len(type_name)) != len(rest) - 1:
+            continue
+        cond, expr, otherwise = line[open_at:close_at + 1], rest[:cut], rest[cut + 3:]
+        lines[n] = "%s%s %s = %s;\n%sif %s %s = %s;" % (indent, type_name, var, otherwise, indent, cond, var, expr)
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------- the page
+
+def page_data(shader, environment, size, samples):
+    """Everything the viewer reads, as one JSON-able dict. environment: an environment_payload()."""
+    m = shader.manifest
+    if m.get("target") != "essl":
+        raise ValueError("the web page draws essl shaders (generate with target='essl')")
+    return {
+        "element": shader.element, "stem": shader.stem, "vertex": webgl_source(shader.vertex),
+        "fragment": webgl_source(shader.fragment),
+        "uniforms": m.get("uniforms", []), "application": m.get("application", []),
+        "size": int(size), "samples": int(samples), "camera": camera_payload(), "environment": environment,
+        "geometry": geometry_payload(m.get("attributes", {})), "textures": texture_payload(m),
+    }
+
+
+def _script_json(obj):
+    """JSON safe inside a <script> element (no '</' can close it early)."""
+    return json.dumps(obj, separators=(",", ":")).replace("</", "<\\/").replace("<!--", "<\\!--")
+
+
+def _asset(name):
+    with open(os.path.join(ASSETS, name), encoding="utf-8") as f:
+        return f.read()
+
+
+def _html_text(text):
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+
+
+def page_html(data):
+    viewer = _asset("viewer.js")
+    return (_asset("page.html")
+            .replace("{{TITLE}}", _html_text(data["element"]))
+            .replace("{{SIZE}}", str(data["size"]))
+            .replace("{{DATA}}", _script_json(data))
+            .replace("{{VIEWER}}", viewer.replace("</", "<\\/")))
+
+
+def write_page(shader, out_dir, environment, size, samples):
+    """Write OUT_DIR/STEM.html; returns its path."""
+    os.makedirs(out_dir, exist_ok=True)
+    path = os.path.join(out_dir, shader.stem + ".html")
+    html = page_html(page_data(shader, environment, size, samples))
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(html)
+    return path

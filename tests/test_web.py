@@ -1,0 +1,253 @@
+"""mtlxgen web: the self-contained WebGL2 page draws what `mtlxgen render` draws.
+
+Headless Chromium (Debian's, WebGL2 on SwiftShader, driven by playwright) opens each page from file:// with
+every other request refused; the canvas it drew (read back, and as the browser shows it) is compared with
+the renderer's image of the same element, camera, size and sample count. Without chromium or playwright the
+browser tests skip, saying why; the rest (mip chains against OpenGL's, WebGL's struct rule, the command's
+errors) run anyway."""
+import json
+import os
+import re
+
+import numpy as np
+import pytest
+
+from mtlxgen import cli, images, pipeline, render, web
+from webpages import assert_parity, browser, open_page, over_black  # noqa: F401  (browser: a fixture)
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SIZE, SAMPLES = 128, 32
+
+# the materials issue 13 names: (test id, document, element)
+CASES = [
+    ("standard_surface", "examples/quick_start.mtlx", "M_tiles"),
+    ("open_pbr_surface", "examples/openpbr/open_pbr_released_names.mtlx", "coated_red_mat"),
+    ("gltf_pbr", "tests/data/materialx/resources/Materials/Examples/GltfPbr/gltf_pbr_default.mtlx", "Default"),
+    ("UsdPreviewSurface_textured_cutout", "examples/usd/usd_seed_rules.mtlx", "leaf"),
+    ("textured_standard_surface", "tests/data/web/textured.mtlx", "M_textured"),
+    ("enterprise_pbr", "examples/enterprise/enterprise_car_paint.mtlx", "M_car_paint"),
+]
+
+
+def _path(rel):
+    return os.path.join(ROOT, rel)
+
+
+@pytest.fixture(scope="module")
+def renderer():
+    with render.Renderer(size=SIZE, env_samples=SAMPLES) as r:
+        yield r
+
+
+def reference(renderer, doc, element):
+    """`mtlxgen render`'s PNG bytes of the element (the default target) at SIZE and SAMPLES."""
+    shader = pipeline.generate(_path(doc), [element])[0]
+    return images.to_srgb8(renderer.render(shader))
+
+
+def write_page(tmp_path, doc, element, *extra):
+    rc = cli.main(["web", _path(doc), "-o", str(tmp_path), "--element", element, "--size", str(SIZE),
+                   "--samples", str(SAMPLES)] + list(extra))
+    assert rc == 0
+    pages = list(tmp_path.glob("*.html"))
+    assert len(pages) == 1, pages
+    return pages[0]
+
+
+def open_offline(browser, page_path):
+    """Open a page from file:// with every request that is not the page itself (or data:) refused."""
+    opened = open_page(browser, page_path.as_uri(), offline=True)
+    return opened, opened.refused
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c[0] for c in CASES])
+def test_web_page_draws_what_render_draws(browser, renderer, tmp_path, case):
+    name, doc, element = case
+    page_path = write_page(tmp_path, doc, element)
+    html = page_path.read_text(encoding="utf-8")
+    # self-contained: no script, style, image or font from anywhere
+    assert not re.search(r"""(?:src|href)\s*=\s*["']?(?:https?:|//|file:)""", html, re.I)
+    assert "@import" not in html and "url(" not in html
+    opened, refused = open_offline(browser, page_path)
+    assert refused == [], "the page asked for %s" % refused
+    want = reference(renderer, doc, element)
+    got = opened.pixels()
+    assert_parity("web %s" % name, got, want)
+    # what the browser shows: the canvas over the page's black background
+    shown = opened.screenshot(tmp_path / "shown.png")
+    assert_parity("web %s shown" % name, shown, over_black(want))
+    opened.page.context.close()
+
+
+def test_orbit_and_zoom(browser, tmp_path):
+    """Dragging turns the view, a double click brings back render's exact view, the wheel zooms in."""
+    page_path = write_page(tmp_path, "examples/usd/usd_seed_rules.mtlx", "gold")
+    opened, _ = open_offline(browser, page_path)
+    page = opened.page
+    first = opened.pixels()
+    box = page.locator("#view").bounding_box()
+    cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+
+    def frames():
+        return page.evaluate("window.mtlxgen.frames")
+
+    n = frames()
+    page.mouse.move(cx, cy)
+    page.mouse.down()
+    page.mouse.move(cx + 30, cy + 10, steps=3)
+    page.mouse.up()
+    page.wait_for_function("window.mtlxgen.frames > %d" % n)
+    assert page.evaluate("window.mtlxgen.orbit.azimuth") < 0
+    turned = opened.pixels()
+    assert np.abs(turned.astype(int) - first.astype(int)).max() > 40      # the sun's highlight moved
+
+    n = frames()
+    page.mouse.dblclick(cx, cy)
+    page.wait_for_function("window.mtlxgen.frames > %d && window.mtlxgen.orbit.azimuth === 0" % n)
+    page.wait_for_timeout(400)          # the drag's full-sample redraw, if still pending, lands first
+    page.evaluate("window.mtlxgen.draw()")
+    assert np.array_equal(opened.pixels(), first)
+
+    n = frames()
+    page.mouse.move(cx, cy)
+    page.mouse.wheel(0, -400)
+    page.wait_for_function("window.mtlxgen.frames > %d" % n)
+    assert page.evaluate("window.mtlxgen.orbit.radius") < 3.0
+    zoomed = opened.pixels()
+    assert (zoomed[..., 3] > 0).sum() > 1.3 * (first[..., 3] > 0).sum()
+    opened.page.context.close()
+
+
+def test_environment_file_is_the_one_drawn(browser, renderer, tmp_path):
+    """--env: the page lights with that image (here a white furnace), as render does."""
+    env_path = _path("examples/enterprise/white_furnace.hdr")
+    page_path = write_page(tmp_path, "examples/usd/usd_seed_rules.mtlx", "gold", "--env", env_path)
+    opened, _ = open_offline(browser, page_path)
+    env = render.load_environment(env_path)
+    with render.Renderer(size=SIZE, env_samples=SAMPLES, environment=env) as r:
+        want = images.to_srgb8(r.render(pipeline.generate(_path("examples/usd/usd_seed_rules.mtlx"), ["gold"])[0]))
+    assert_parity("web gold --env furnace", opened.pixels(), want)
+    sky = reference(renderer, "examples/usd/usd_seed_rules.mtlx", "gold")
+    assert np.abs(sky.astype(int) - want.astype(int))[..., :3].mean() > 10     # not the sky's picture
+    opened.page.context.close()
+
+
+# ---------------------------------------------------------------- without a browser
+
+@pytest.mark.parametrize("shape", [(8, 16, 3), (5, 10, 3), (3, 7, 4), (6, 13, 1), (1, 9, 2), (256, 512, 3)])
+def test_mip_chain_is_what_opengl_builds(renderer, shape):
+    """The levels a page uploads are the ones render's GL build_mipmaps makes (odd sizes too)."""
+    rng = np.random.default_rng(sum(shape))
+    img = rng.random(shape).astype(np.float32) * 4.0
+    levels = web.mip_chain(img)
+    tex = renderer._float_texture(img, mipmaps=True, top_first=True)
+    try:
+        assert len(levels) == int(np.floor(np.log2(max(shape[:2])))) + 1
+        for i, level in enumerate(levels):
+            h, w, c = level.shape
+            gl = np.frombuffer(tex.read(level=i), dtype="f4").reshape(h, w, c)
+            np.testing.assert_allclose(level, gl, rtol=1e-5, atol=1e-6, err_msg="level %d" % i)
+    finally:
+        tex.release()
+
+
+def test_webgl_source_rewrites_struct_selections():
+    src = ("struct BSDF { vec3 response; vec3 throughput; };\n"
+           "void main() {\n"
+           "    BSDF a = (w >= 1.0e-6 && (m != 0.0)) ? f(x, (y ? 1.0 : 2.0)) : BSDF(vec3(0.0), vec3(1.0));\n"
+           "    float b = (w > 0.0) ? 1.0 : 2.0;\n"
+           "}\n")
+    out = web.webgl_source(src)
+    assert ("    BSDF a = BSDF(vec3(0.0), vec3(1.0));\n"
+            "    if (w >= 1.0e-6 && (m != 0.0)) a = f(x, (y ? 1.0 : 2.0));") in out
+    assert "float b = (w > 0.0) ? 1.0 : 2.0;" in out          # not a struct: as it was
+    plain = "void main() { float b = (w > 0.0) ? 1.0 : 2.0; }\n"
+    assert web.webgl_source(plain) == plain
+
+
+def test_page_data_holds_the_manifest_values(tmp_path):
+    shader = pipeline.generate(_path("examples/usd/usd_seed_rules.mtlx"), ["leaf"], target="essl")[0]
+    data = web.page_data(shader, web.environment_payload(), SIZE, SAMPLES)
+    assert data["uniforms"] == shader.manifest["uniforms"]
+    assert {a["name"] for a in data["application"]} >= {"u_envRadiance", "u_viewProjectionMatrix"}
+    assert data["samples"] == SAMPLES and data["size"] == SIZE
+    assert data["environment"]["mips"] == 10 and len(data["environment"]["radiance"]["levels"]) == 10
+    (sampler, index), = data["textures"]["samplers"].items()
+    image = data["textures"]["images"][index]
+    assert sampler == "leaf_tex_file" and image["channels"] == 2 and image["source"] == "leaf_ga.png"
+    assert not re.search(r"\bBSDF \w+ = \([^;]*\? ", data["fragment"])
+
+
+# ---------------------------------------------------------------- errors: one line, status 1
+
+def _run(capsys, *argv):
+    rc = cli.main(list(argv))
+    err = capsys.readouterr().err.strip().splitlines()
+    return rc, err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--size", "0"], "argument --size: 0 is out of range"),
+    (["--samples", "0"], "argument --samples: 0 is out of range"),
+    (["--samples", "many"], "argument --samples: 'many' is not a whole number"),
+    (["--env", "/nonexistent.hdr"], "argument --env: /nonexistent.hdr: no such file"),
+])
+def test_bad_options(capsys, tmp_path, argv, message):
+    for command in ("web", "three"):
+        rc, err = _run(capsys, command, _path("examples/quick_start.mtlx"), "-o", str(tmp_path), *argv)
+        assert rc == 1 and len(err) == 1 and message in err[0], err
+
+
+def test_missing_document(capsys, tmp_path):
+    rc, err = _run(capsys, "web", str(tmp_path / "nope.mtlx"), "-o", str(tmp_path / "out"))
+    assert rc == 1 and err == ["%s:0: no such file" % (tmp_path / "nope.mtlx")]
+
+
+def test_environment_too_big(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr(web, "MAX_ENV_PIXELS", 100)
+    env = _path("examples/enterprise/white_furnace.hdr")
+    rc, err = _run(capsys, "web", _path("examples/quick_start.mtlx"), "-o", str(tmp_path), "--env", env)
+    assert rc == 1 and len(err) == 1
+    assert err[0].startswith(env + ":0: environment of ") and "larger than a web page embeds" in err[0]
+    assert not list(tmp_path.glob("*.html"))
+
+
+def test_texture_too_big_fails_that_element_only(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr(web, "MAX_TEXTURE_PIXELS", 100)
+    rc, err = _run(capsys, "web", _path("examples/usd/usd_seed_rules.mtlx"), "-o", str(tmp_path), "--size", "8",
+                   "--samples", "1")
+    assert rc == 1 and len(err) == 2
+    assert all("texture of " in line and "larger than a web page embeds" in line for line in err)
+    assert sorted(p.name for p in tmp_path.glob("*.html")) == ["gold.html"]
+
+
+def test_device_texture_refused(capsys, tmp_path):
+    doc = tmp_path / "dev.mtlx"
+    doc.write_text("""<?xml version="1.0"?>
+<materialx version="1.39">
+  <image name="img" type="color3"><input name="file" type="filename" value="/dev/zero" /></image>
+  <output name="out" type="color3" nodename="img" />
+</materialx>
+""")
+    for command in ("web", "three"):
+        rc, err = _run(capsys, command, str(doc), "-o", str(tmp_path / command))
+        assert rc == 1 and len(err) == 1 and err[0].startswith("/dev/zero:0: image file is a system file"), err
+
+
+def test_unreadable_texture_draws_its_default(tmp_path):
+    """A texture file that does not decode is not embedded: the page binds the image's default colour, as render."""
+    (tmp_path / "fake.png").write_text("not an image")
+    doc = tmp_path / "fake.mtlx"
+    doc.write_text("""<?xml version="1.0"?>
+<materialx version="1.39">
+  <image name="img" type="color3"><input name="file" type="filename" value="fake.png" />
+    <input name="default" type="color3" value="0.25, 0.5, 0.75" /></image>
+  <output name="out" type="color3" nodename="img" />
+</materialx>
+""")
+    shader = pipeline.generate(str(doc), target="essl")[0]
+    payload = web.texture_payload(shader.manifest)
+    (image,) = payload["images"]
+    assert image["source"] == "default colour" and image["width"] == image["height"] == 1
+    assert not image["mipmaps"]
+    assert "not an image" not in json.dumps(payload)
