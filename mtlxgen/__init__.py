@@ -13,3 +13,12 @@ The pipeline, one module a stage, plain data between them:
                                      progressive sampling, property panel: geometry, docedit, viewpanel)
 """
 __version__ = "0.1.0"
+
+# usdstage.USD_EXTENSIONS, here so that telling a USD stage from a .mtlx document imports nothing (usdstage's
+# import costs a small generation's time); tests/test_library_index.py holds them equal
+USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
+
+
+def is_usd(path):
+    """Whether `path` names a USD stage (by its extension), as usdstage.is_usd says."""
+    return str(path).lower().endswith(USD_EXTENSIONS)

@@ -9,8 +9,8 @@ import math
 import os
 import sys
 
+from . import is_usd
 from .diagnostics import Loc, MtlxError, Warnings
-from .emit import ENVIRONMENT_METHODS
 from .targets import NAMES as TARGET_NAMES
 
 
@@ -24,6 +24,11 @@ def _print_warnings(lines):
     """`FILE:LINE: warning: ...` lines on stderr, each once (slips MaterialX reads on; --strict makes them errors)."""
     for line in dict.fromkeys(lines):
         print(line, file=sys.stderr)
+
+
+# emit.ENVIRONMENT_METHODS, here so that `mtlxgen --help` does not import the emitter (tests/test_library_index.py
+# holds them equal)
+ENVIRONMENT_METHODS = ("fis", "prefiltered")
 
 
 # ---------------------------------------------------------------- option values
@@ -142,12 +147,12 @@ def _variant(text):
 def _usd_options(args):
     """usdstage.StageOptions from --variant / --render-context; an error where they are given for a .mtlx."""
     variants, context = tuple(getattr(args, "variant", None) or ()), getattr(args, "render_context", None)
-    from .usdstage import StageOptions, is_usd
     if not is_usd(args.file):
         if variants or context:
             raise MtlxError((Loc(args.file, 0), "%s applies to USD stages (.usd, .usda, .usdc, .usdz) only"
                              % ("--variant" if variants else "--render-context")))
         return None
+    from .usdstage import StageOptions
     return StageOptions(variants=variants, render_context=context or "mtlx")
 
 

@@ -1,7 +1,7 @@
 """The whole pipeline for one document: read, resolve, build each element's graph, emit GLSL."""
 import os
 
-from . import document, emit, glslcheck, graph, library, targets
+from . import document, emit, glslcheck, graph, is_usd, library, targets
 from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
 from .resolve import search_paths
 from .xmlreader import gc_paused
@@ -12,8 +12,8 @@ def load_document(path, library_dirs=(), usd_options=None):
     usdstage.py; usd_options a usdstage.StageOptions)."""
     if not os.path.exists(path):
         raise MtlxError((Loc(path, 0), "no such file"))
-    from . import usdstage
-    if usdstage.is_usd(path):
+    if is_usd(path):
+        from . import usdstage
         return usdstage.load(path, library_dirs, usd_options)
     doc = document.load(path, search_paths(library_dirs))
     from .upgrade import upgrade
