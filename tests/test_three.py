@@ -1,0 +1,175 @@
+"""mtlxgen three: the ES module's material, in three.js from npm, draws what `mtlxgen render` draws.
+
+The example page each element gets (three from npm linked beside it, served over HTTP on 127.0.0.1 as ES
+modules need) is opened in headless Chromium (Debian's, WebGL2 on SwiftShader, driven by playwright); its
+canvas is compared with the renderer's image of the same element, camera, size and samples. The module's
+API is also checked in Node without a browser. Without npm (or where `npm install three` fails), chromium or
+playwright, the tests that need them skip, saying why."""
+import json
+import os
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from mtlxgen import cli, images, pipeline, render
+from webpages import Server, assert_parity, browser, npm_three, open_page  # noqa: F401  (browser: a fixture)
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SIZE, SAMPLES = 128, 32
+
+CASES = [
+    ("standard_surface", "examples/quick_start.mtlx", "M_tiles"),
+    ("open_pbr_surface", "examples/openpbr/open_pbr_released_names.mtlx", "coated_red_mat"),
+    ("gltf_pbr", "tests/data/materialx/resources/Materials/Examples/GltfPbr/gltf_pbr_default.mtlx", "Default"),
+    ("UsdPreviewSurface_textured_cutout", "examples/usd/usd_seed_rules.mtlx", "leaf"),
+    ("textured_standard_surface", "tests/data/web/textured.mtlx", "M_textured"),
+    ("enterprise_pbr", "examples/enterprise/enterprise_car_paint.mtlx", "M_car_paint"),
+]
+
+
+def _path(rel):
+    return os.path.join(ROOT, rel)
+
+
+@pytest.fixture(scope="module")
+def three_dir():
+    return npm_three()
+
+
+@pytest.fixture(scope="module")
+def renderer():
+    with render.Renderer(size=SIZE, env_samples=SAMPLES) as r:
+        yield r
+
+
+def write_module(out, doc, element, three=None):
+    rc = cli.main(["three", _path(doc), "-o", str(out), "--element", element, "--size", str(SIZE),
+                   "--samples", str(SAMPLES)])
+    assert rc == 0
+    if three:
+        os.symlink(three, out / "three")
+    stem = pipeline.generate(_path(doc), [element])[0].stem
+    return stem
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c[0] for c in CASES])
+def test_three_example_draws_what_render_draws(browser, three_dir, renderer, tmp_path, case):
+    name, doc, element = case
+    stem = write_module(tmp_path, doc, element, three_dir)
+    server = Server(tmp_path)
+    try:
+        opened = open_page(browser, server.url(stem + ".html"))
+        got = opened.pixels()
+        manifest = json.loads(opened.page.evaluate("JSON.stringify(window.mtlxgen.material.userData.mtlxgen.manifest)"))
+        # textures as three holds them: raw colour (the shader converts), the manifest's wrap and filter
+        for t in manifest["textures"]:
+            state = opened.page.evaluate("""(name) => { const t = window.mtlxgen.material.uniforms[name].value;
+                return [!!(t.isDataTexture && t.image.width === 1), t.colorSpace, t.wrapS, t.wrapT, t.minFilter]; }""",
+                                         t["uniform"])
+            wrap = {"periodic": 1000, "clamp": 1001, "mirror": 1002, "constant": 1001}     # THREE.*Wrapping
+            assert state == [False, "", wrap[t["uaddressmode"]], wrap[t["vaddressmode"]], 1008], (t, state)
+        assert not [r for r in opened.requests if not r.startswith(server.url(""))]
+        opened.page.context.close()
+    finally:
+        server.close()
+    shader = pipeline.generate(_path(doc), [element])[0]
+    want = images.to_srgb8(renderer.render(shader))
+    assert_parity("three %s" % name, got, want)
+
+
+def test_module_api_in_node(three_dir, tmp_path):
+    """Without a browser: createMaterial's uniforms hold the manifest's values, onBeforeRender sets the
+    matrices from the object and camera, prepareGeometry shares three's buffers under our names."""
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed")
+    stem = write_module(tmp_path, "examples/usd/usd_seed_rules.mtlx", "leaf")
+    script = tmp_path / "check.mjs"
+    script.write_text("""
+import * as THREE from %s;
+import * as element from %s;
+console.warn = () => {};      // TextureLoader has no Image in Node: the textures keep their default colours
+const m = element.createMaterial(THREE, { envSamples: 48 });
+const mesh = new THREE.Mesh(element.prepareGeometry(THREE, new THREE.SphereGeometry(1, 16, 8)), m);
+mesh.position.set(1, 2, 3);
+mesh.updateMatrixWorld();
+const camera = new THREE.PerspectiveCamera(45, 1, 0.1, 100);
+camera.position.set(0, 0, 5);
+camera.updateMatrixWorld();
+m.onBeforeRender(null, null, camera, mesh.geometry, mesh);
+const g = mesh.geometry.attributes;
+const out = {
+  raw: m.isRawShaderMaterial, glsl3: m.glslVersion === THREE.GLSL3, side: m.side === THREE.DoubleSide,
+  version: /^#version/.test(m.fragmentShader), structTernary: /BSDF \\w+ = \\([^;]*\\? /.test(m.fragmentShader),
+  uniforms: Object.fromEntries(element.manifest.uniforms.map((u) => {
+    const v = m.uniforms[u.name].value;
+    return [u.name, v && v.toArray ? v.toArray() : v];
+  })),
+  samples: m.uniforms.u_envRadianceSamples.value,
+  envMatrix: m.uniforms.u_envMatrix.value.toArray(),
+  world: m.uniforms.u_worldMatrix.value.toArray(),
+  viewPosition: m.uniforms.u_viewPosition.value.toArray(),
+  shared: g.i_position === g.position && g.i_normal === g.normal && g.i_texcoord_0 === g.uv && g.i_tangent === g.tangent,
+  bitangent: g.i_bitangent.itemSize,
+  sampler: m.uniforms.leaf_tex_file.value.isDataTexture,
+  sphere: element.createSphere(THREE).attributes.position.count,
+};
+console.log(JSON.stringify(out));
+""" % (json.dumps(os.path.join(three_dir, "build", "three.module.js")), json.dumps(str(tmp_path / (stem + ".js")))))
+    r = subprocess.run([node, str(script)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout.strip().splitlines()[-1])
+    manifest = json.loads((tmp_path / (stem + ".js")).read_text().split("export const manifest = ", 1)[1]
+                          .split(";\n", 1)[0])
+    assert out["raw"] and out["glsl3"] and out["side"] and not out["version"] and not out["structTernary"]
+    for u in manifest["uniforms"]:
+        assert np.allclose(np.ravel(out["uniforms"][u["name"]]).astype(float), np.ravel(u["value"]).astype(float)), u
+    assert out["samples"] == 48
+    assert out["envMatrix"] == [-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1]
+    assert out["world"][12:15] == [1, 2, 3] and out["viewPosition"] == [0, 0, 5]
+    assert out["shared"] and out["bitangent"] == 3 and out["sampler"]
+    assert out["sphere"] == 129 * 65
+
+
+def test_textures_copied_beside_the_module(tmp_path):
+    """Texture files go to OUT/textures/ when they decode as an image three loads; one that does not decode is
+    not copied (its default colour is drawn); the module's manifest names the copies relative to itself."""
+    (tmp_path / "doc").mkdir()
+    (tmp_path / "doc" / "fake.png").write_text("secret, not an image")
+    shutil.copy(_path("examples/usd/stripes_r.png"), tmp_path / "doc" / "stripes.png")
+    shutil.copy(_path("tests/data/materialx/resources/Images/onyx_roughness.jpg"), tmp_path / "doc" / "rough.jpg")
+    doc = tmp_path / "doc" / "m.mtlx"
+    doc.write_text("""<?xml version="1.0"?>
+<materialx version="1.39">
+  <image name="a" type="color3"><input name="file" type="filename" value="fake.png" /></image>
+  <image name="b" type="color3"><input name="file" type="filename" value="stripes.png" />
+    <input name="uaddressmode" type="string" value="mirror" /></image>
+  <image name="c" type="float"><input name="file" type="filename" value="rough.jpg" /></image>
+  <add name="ab" type="color3"><input name="in1" type="color3" nodename="a" /><input name="in2" type="color3" nodename="b" /></add>
+  <add name="abc" type="color3"><input name="in1" type="color3" nodename="ab" /><input name="in2" type="float" nodename="c" /></add>
+  <output name="out" type="color3" nodename="abc" />
+</materialx>
+""")
+    out = tmp_path / "out"
+    assert cli.main(["three", str(doc), "-o", str(out)]) == 0
+    copies = sorted(p.name for p in (out / "textures").iterdir())
+    assert len(copies) == 2 and copies[0].startswith("rough-") and copies[0].endswith(".jpg")
+    assert copies[1].startswith("stripes-") and copies[1].endswith(".png")
+    assert (out / "textures" / copies[1]).read_bytes() == (tmp_path / "doc" / "stripes.png").read_bytes()
+    module = next(out.glob("*.js"), None)
+    text = [p for p in out.glob("*.js") if p.name != "mtlxgen_three.js"][0].read_text()
+    manifest = json.loads(text.split("export const manifest = ", 1)[1].split(";\n", 1)[0])
+    urls = {t["source"]: t["url"] for t in manifest["textures"]}
+    assert urls == {"fake.png": None, "stripes.png": "textures/" + copies[1], "rough.jpg": "textures/" + copies[0]}
+    assert all("file" not in t for t in manifest["textures"])       # no absolute paths of the author's machine
+    assert module is not None and "secret" not in "".join(p.read_text(errors="replace") for p in out.rglob("*.js"))
+    assert (out / "environment.exr").is_file() and (out / "mtlxgen_three.js").is_file()
+
+
+def test_environment_written_is_render_sky(tmp_path):
+    """environment.exr holds the built-in sky as render lights with it, 32-bit float."""
+    assert cli.main(["three", _path("examples/usd/usd_seed_rules.mtlx"), "-o", str(tmp_path), "--element", "gold"]) == 0
+    env = images.read_image(str(tmp_path / "environment.exr"))
+    assert np.array_equal(env, render.builtin_sky())
