@@ -164,11 +164,16 @@ def npm_three():
     if npm is None:
         pytest.skip("npm is not installed: three.js comes from npm (apt-get install npm; npm install three)")
     os.makedirs(cache, exist_ok=True)
-    try:
-        r = subprocess.run([npm, "install", "--prefix", cache, "--no-audit", "--no-fund", "--loglevel=error", "three"],
-                           capture_output=True, text=True, timeout=300)
-    except subprocess.TimeoutExpired:
-        pytest.skip("npm install three did not finish in 300 s (offline?)")
+    import fcntl
+    with open(os.path.join(cache, ".install.lock"), "w") as lock:     # xdist workers install it once
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if os.path.isfile(os.path.join(three, "build", "three.module.js")):
+            return three
+        try:
+            r = subprocess.run([npm, "install", "--prefix", cache, "--no-audit", "--no-fund", "--loglevel=error",
+                                "three"], capture_output=True, text=True, timeout=300)
+        except subprocess.TimeoutExpired:
+            pytest.skip("npm install three did not finish in 300 s (offline?)")
     if r.returncode != 0 or not os.path.isfile(os.path.join(three, "build", "three.module.js")):
         pytest.skip("npm install three failed: %s" % (r.stderr.strip().splitlines() or ["?"])[-1])
     return three
