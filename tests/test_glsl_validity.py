@@ -1,58 +1,123 @@
-"""Generated GLSL is valid to Khronos' reference compiler, not only to Mesa (which accepts more: a struct
-defined twice, backslash line continuations in GLSL 4.00). Every shader of the bundled examples, the
-tests' MaterialX documents and the fuzz seeds passes `glslangValidator`; with ../shared, every element
-of the scoreboard's corpus too."""
+"""Generated shaders are valid to Khronos' reference compiler for every target, not only to Mesa (which accepts
+more: a struct defined twice, backslash line continuations in GLSL 4.00, `#version 300 es` features ES lacks).
+
+- glsl and essl: both stages compile with `glslangValidator`.
+- vulkan: both stages become SPIR-V (`glslangValidator -V`) that `spirv-val` accepts, and the two stages
+  linked give glslang's reflection, whose block offsets, array strides and sampler bindings must be the ones
+  the manifest tells a renderer (targets.std140 computes them independently).
+
+Every shader of the bundled examples, the tests' documents and the fuzz seeds, for every target; with
+../shared, every element of the scoreboard's corpus too (marked corpus)."""
+import concurrent.futures
 import glob
 import os
+import re
 import shutil
 import subprocess
 
 import pytest
 
 from conftest import CORPUS, DATA, ROOT, corpus_params
-from mtlxgen import pipeline
+from mtlxgen import pipeline, targets
 from mtlxgen.diagnostics import MtlxError
 
 GLSLANG = shutil.which("glslangValidator")
+SPIRV_VAL = shutil.which("spirv-val")
 pytestmark = pytest.mark.skipif(GLSLANG is None, reason="glslangValidator not installed (Debian glslang-tools; "
                                                         ".ci/run installs it)")
+OWN_DATA = os.path.join(ROOT, "tests", "data", "targets")
 
 
 def documents(*roots):
     return sorted(p for r in roots for p in glob.glob(os.path.join(r, "**", "*.mtlx"), recursive=True))
 
 
-def validate(shader, tmp_dir):
-    """glslangValidator's ERROR lines for both stages of one shader (empty when valid)."""
-    errors = []
+def _run(args):
+    return subprocess.run(args, capture_output=True, text=True, timeout=300)
+
+
+def _errors(label, r):
+    lines = [line for line in (r.stdout + r.stderr).splitlines() if line.startswith(("ERROR", "error"))]
+    return ["%s: %s" % (label, line) for line in lines[:3]] or ["%s: exit %d" % (label, r.returncode)]
+
+
+REFLECTED = re.compile(r"^(\S+): offset (-?\d+), type \w+, size \d+, index -?\d+, binding (-?\d+)[^\n]*?"
+                       r"(?:topLevelArrayStride (\d+))?$", re.M)
+
+
+def reflection_mismatches(shader, reflection):
+    """Where glslang's reflection of the linked vulkan stages disagrees with the manifest's offsets/bindings."""
+    block = shader.manifest["uniform_block"]
+    expected = {}
+    for m in block["members"]:
+        if m.get("members"):        # a struct (array): glslang lists its fields as NAME.FIELD
+            for f in m["members"]:
+                expected["%s.%s" % (m["name"], f["name"])] = (m["offset"] + f["offset"], -1, m.get("stride"))
+        else:
+            expected[m["name"]] = (m["offset"], -1, None)
+    for s in shader.manifest["samplers"]:
+        expected[s["name"]] = (-1, s["binding"], None)
+    seen, out = set(), []
+    for name, offset, binding, stride in REFLECTED.findall(reflection):
+        name = name.split("[")[0] if name.endswith("]") else name
+        if name not in expected:
+            continue
+        seen.add(name)
+        want = expected[name]
+        got = (int(offset), int(binding), int(stride) if stride else None)
+        if got[:2] != want[:2] or (want[2] is not None and got[2] != want[2]):
+            out.append("%s: %s: manifest (offset, binding, stride) %s, glslang %s" % (shader.stem, name, want, got))
+    return out, seen
+
+
+def validate(shader, tmp_dir, target="glsl"):
+    """The reference compiler's complaints about one shader (empty when valid)."""
+    errors, paths = [], {}
     for stage, text in (("vert", shader.vertex), ("frag", shader.fragment)):
-        path = os.path.join(tmp_dir, "%s.%s" % (shader.stem, stage))
+        path = paths[stage] = os.path.join(tmp_dir, "%s.%s.%s" % (shader.stem, target, stage))
         with open(path, "w") as f:
             f.write(text)
-        r = subprocess.run([GLSLANG, path], capture_output=True, text=True, timeout=120)
+        if target != "vulkan":
+            r = _run([GLSLANG, path])
+            if r.returncode:
+                errors += _errors("%s.%s" % (shader.stem, stage), r)
+            continue
+        spv = path + ".spv"
+        r = _run([GLSLANG, "-V", path, "-o", spv])
         if r.returncode:
-            errors += ["%s.%s: %s" % (shader.stem, stage, line) for line in r.stdout.splitlines()
-                       if line.startswith("ERROR")][:3] or ["%s.%s: exit %d" % (shader.stem, stage, r.returncode)]
+            errors += _errors("%s.%s" % (shader.stem, stage), r)
+        elif SPIRV_VAL:
+            r = _run([SPIRV_VAL, spv])
+            if r.returncode:
+                errors += _errors("%s.%s.spv (spirv-val)" % (shader.stem, stage), r)
+    if target == "vulkan" and not errors:
+        r = _run([GLSLANG, "-V", "-l", "-q", paths["vert"], paths["frag"], "-o", os.path.join(tmp_dir, "linked.spv")])
+        if r.returncode:
+            errors += _errors("%s (linked)" % shader.stem, r)
+        else:
+            errors += reflection_mismatches(shader, r.stdout)[0]
     return errors
 
 
-def check_documents(paths, tmp_path):
-    errors, count = [], 0
+def check_documents(paths, tmp_path, target="glsl"):
+    shaders = []
     for path in paths:
         try:
-            shaders, _ = pipeline.generate(path, partial=True)
+            made, _ = pipeline.generate(path, partial=True, target=target)
         except MtlxError:        # nothing renderable, or a document refused whole: other tests pin those
             continue
-        for s in shaders:
-            count += 1
-            errors += ["%s: %s" % (os.path.relpath(path, ROOT), e) for e in validate(s, str(tmp_path))]
-    return count, errors
+        shaders += [(path, s) for s in made]
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:      # glslang runs as processes: two at a time
+        found = list(pool.map(lambda ps: ["%s: %s" % (os.path.relpath(ps[0], ROOT), e)
+                                          for e in validate(ps[1], str(tmp_path), target)], shaders))
+    return len(shaders), [e for errs in found for e in errs]
 
 
-@pytest.mark.parametrize("root", ["examples", os.path.join("tests", "fuzz_seeds"), "data"])
-def test_project_documents_generate_glsl_the_reference_compiler_accepts(root, tmp_path):
-    paths = documents(DATA if root == "data" else os.path.join(ROOT, root))
-    count, errors = check_documents(paths, tmp_path)
+@pytest.mark.parametrize("target", targets.NAMES)
+@pytest.mark.parametrize("root", ["examples", os.path.join("tests", "fuzz_seeds"), "data", "targets"])
+def test_project_documents_generate_shaders_the_reference_compiler_accepts(root, target, tmp_path):
+    paths = documents({"data": DATA, "targets": OWN_DATA}.get(root) or os.path.join(ROOT, root))
+    count, errors = check_documents(paths, tmp_path, target)
     assert count >= len(paths) > 0
     assert not errors, "\n".join(errors[:20])
 
@@ -67,15 +132,53 @@ def test_validator_rejects_what_mesa_accepts(tmp_path):
     assert any("redefinition" in e for e in validate(S, str(tmp_path)))
 
 
+def test_validator_rejects_what_es_lacks(tmp_path):
+    """The essl check is not vacuous either: GLSL 4.00's bitfieldReverse and uniform initializers fail ES 3.00."""
+    class S:
+        stem = "probe_es"
+        vertex = "#version 300 es\nvoid main() { gl_Position = vec4(0.0); }\n"
+        fragment = ("#version 300 es\nprecision highp float;\nuniform float k = 1.0;\nout vec4 c;\n"
+                    "void main() { c = vec4(float(bitfieldReverse(7u)) * k); }\n")
+    assert validate(S, str(tmp_path), "essl")
+
+
+@pytest.mark.skipif(SPIRV_VAL is None, reason="spirv-val not installed (Debian spirv-tools; .ci/run installs it)")
+def test_reflection_check_sees_a_wrong_offset(tmp_path):
+    """An offset the manifest gets wrong is caught: the check compares every member with glslang's."""
+    s = pipeline.generate(os.path.join(OWN_DATA, "interface_types.mtlx"), target="vulkan")[0]
+    assert not validate(s, str(tmp_path), "vulkan")
+    for m in s.manifest["uniform_block"]["members"]:
+        if m["name"] == "u_viewPosition":
+            m["offset"] += 4
+    errors = validate(s, str(tmp_path), "vulkan")
+    assert any("u_viewPosition" in e for e in errors), errors
+
+
+def test_reflection_covers_every_block_member_and_sampler(tmp_path):
+    """glslang reflects every member the shader reads, struct fields and samplers included, so the offset
+    check above is not silently skipping names."""
+    s = pipeline.generate(os.path.join(OWN_DATA, "struct_uniform.mtlx"), target="vulkan")[0]
+    path = {}
+    for stage, text in (("vert", s.vertex), ("frag", s.fragment)):
+        path[stage] = os.path.join(str(tmp_path), "s.%s" % stage)
+        with open(path[stage], "w") as f:
+            f.write(text)
+    r = _run([GLSLANG, "-V", "-l", "-q", path["vert"], path["frag"], "-o", os.path.join(str(tmp_path), "l.spv")])
+    mismatches, seen = reflection_mismatches(s, r.stdout)
+    assert not mismatches
+    assert {"t_pair.weight", "t_pair.tint", "t_pair.offset", "u_viewProjectionMatrix", "u_worldMatrix"} <= seen
+
+
 def _corpus_groups():
     top = os.path.join(CORPUS, "resources", "Materials")
     return [pytest.param(d, id=d) for d in sorted(os.listdir(top)) if os.path.isdir(os.path.join(top, d))]
 
 
 @pytest.mark.corpus
+@pytest.mark.parametrize("target", targets.NAMES)
 @pytest.mark.parametrize("group", corpus_params(_corpus_groups))
-def test_corpus_generates_glsl_the_reference_compiler_accepts(group, tmp_path):
+def test_corpus_generates_shaders_the_reference_compiler_accepts(group, target, tmp_path):
     paths = documents(os.path.join(CORPUS, "resources", "Materials", group))
-    count, errors = check_documents(paths, tmp_path)
+    count, errors = check_documents(paths, tmp_path, target)
     assert count > 0
     assert not errors, "%d of %d shaders invalid:\n%s" % (len(errors), count, "\n".join(errors[:20]))
