@@ -8,21 +8,15 @@ more: a struct defined twice, backslash line continuations in GLSL 4.00, `#versi
 
 Every shader of the bundled examples, the tests' documents and the fuzz seeds, for every target; with
 ../shared, every element of the scoreboard's corpus too (marked corpus)."""
-import concurrent.futures
 import glob
 import os
-import re
-import shutil
-import subprocess
 
 import pytest
 
 from conftest import CORPUS, DATA, ROOT, corpus_params
 from mtlxgen import pipeline, targets
-from mtlxgen.diagnostics import MtlxError
+from mtlxgen.glslvalidate import GLSLANG, SPIRV_VAL, reflection_mismatches, run_tool, validate, validate_documents
 
-GLSLANG = shutil.which("glslangValidator")
-SPIRV_VAL = shutil.which("spirv-val")
 pytestmark = pytest.mark.skipif(GLSLANG is None, reason="glslangValidator not installed (Debian glslang-tools; "
                                                         ".ci/run installs it)")
 OWN_DATA = os.path.join(ROOT, "tests", "data", "targets")
@@ -32,85 +26,9 @@ def documents(*roots):
     return sorted(p for r in roots for p in glob.glob(os.path.join(r, "**", "*.mtlx"), recursive=True))
 
 
-def _run(args):
-    return subprocess.run(args, capture_output=True, text=True, timeout=300)
-
-
-def _errors(label, r):
-    lines = [line for line in (r.stdout + r.stderr).splitlines() if line.startswith(("ERROR", "error"))]
-    return ["%s: %s" % (label, line) for line in lines[:3]] or ["%s: exit %d" % (label, r.returncode)]
-
-
-REFLECTED = re.compile(r"^(\S+): offset (-?\d+), type \w+, size \d+, index -?\d+, binding (-?\d+)[^\n]*?"
-                       r"(?:topLevelArrayStride (\d+))?$", re.M)
-
-
-def reflection_mismatches(shader, reflection):
-    """Where glslang's reflection of the linked vulkan stages disagrees with the manifest's offsets/bindings."""
-    block = shader.manifest["uniform_block"]
-    expected = {}
-    for m in block["members"]:
-        if m.get("members"):        # a struct (array): glslang lists its fields as NAME.FIELD
-            for f in m["members"]:
-                expected["%s.%s" % (m["name"], f["name"])] = (m["offset"] + f["offset"], -1, m.get("stride"))
-        else:
-            expected[m["name"]] = (m["offset"], -1, None)
-    for s in shader.manifest["samplers"]:
-        expected[s["name"]] = (-1, s["binding"], None)
-    seen, out = set(), []
-    for name, offset, binding, stride in REFLECTED.findall(reflection):
-        name = name.split("[")[0] if name.endswith("]") else name
-        if name not in expected:
-            continue
-        seen.add(name)
-        want = expected[name]
-        got = (int(offset), int(binding), int(stride) if stride else None)
-        if got[:2] != want[:2] or (want[2] is not None and got[2] != want[2]):
-            out.append("%s: %s: manifest (offset, binding, stride) %s, glslang %s" % (shader.stem, name, want, got))
-    return out, seen
-
-
-def validate(shader, tmp_dir, target="glsl"):
-    """The reference compiler's complaints about one shader (empty when valid)."""
-    errors, paths = [], {}
-    for stage, text in (("vert", shader.vertex), ("frag", shader.fragment)):
-        path = paths[stage] = os.path.join(tmp_dir, "%s.%s.%s" % (shader.stem, target, stage))
-        with open(path, "w") as f:
-            f.write(text)
-        if target != "vulkan":
-            r = _run([GLSLANG, path])
-            if r.returncode:
-                errors += _errors("%s.%s" % (shader.stem, stage), r)
-            continue
-        spv = path + ".spv"
-        r = _run([GLSLANG, "-V", path, "-o", spv])
-        if r.returncode:
-            errors += _errors("%s.%s" % (shader.stem, stage), r)
-        elif SPIRV_VAL:
-            r = _run([SPIRV_VAL, spv])
-            if r.returncode:
-                errors += _errors("%s.%s.spv (spirv-val)" % (shader.stem, stage), r)
-    if target == "vulkan" and not errors:
-        r = _run([GLSLANG, "-V", "-l", "-q", paths["vert"], paths["frag"], "-o", os.path.join(tmp_dir, "linked.spv")])
-        if r.returncode:
-            errors += _errors("%s (linked)" % shader.stem, r)
-        else:
-            errors += reflection_mismatches(shader, r.stdout)[0]
-    return errors
-
-
 def check_documents(paths, tmp_path, target="glsl"):
-    shaders = []
-    for path in paths:
-        try:
-            made, _ = pipeline.generate(path, partial=True, target=target)
-        except MtlxError:        # nothing renderable, or a document refused whole: other tests pin those
-            continue
-        shaders += [(path, s) for s in made]
-    with concurrent.futures.ThreadPoolExecutor(2) as pool:      # glslang runs as processes: two at a time
-        found = list(pool.map(lambda ps: ["%s: %s" % (os.path.relpath(ps[0], ROOT), e)
-                                          for e in validate(ps[1], str(tmp_path), target)], shaders))
-    return len(shaders), [e for errs in found for e in errs]
+    count, errors = validate_documents(paths, str(tmp_path), target)
+    return count, [os.path.relpath(e.split(": ", 1)[0], ROOT) + ": " + e.split(": ", 1)[1] for e in errors]
 
 
 @pytest.mark.parametrize("target", targets.NAMES)
@@ -163,7 +81,7 @@ def test_reflection_covers_every_block_member_and_sampler(tmp_path):
         path[stage] = os.path.join(str(tmp_path), "s.%s" % stage)
         with open(path[stage], "w") as f:
             f.write(text)
-    r = _run([GLSLANG, "-V", "-l", "-q", path["vert"], path["frag"], "-o", os.path.join(str(tmp_path), "l.spv")])
+    r = run_tool([GLSLANG, "-V", "-l", "-q", path["vert"], path["frag"], "-o", os.path.join(str(tmp_path), "l.spv")])
     mismatches, seen = reflection_mismatches(s, r.stdout)
     assert not mismatches
     assert {"t_pair.weight", "t_pair.tint", "t_pair.offset", "u_viewProjectionMatrix", "u_worldMatrix"} <= seen
