@@ -5,7 +5,7 @@ usage: bench_coldstart.py [--runs N] [FILE.mtlx ELEMENT ...]
 Default files from ../shared/corpus/materialx (or $MTLXGEN_CORPUS).
 
 ours:      python cli.py generate FILE --element ELEMENT -o TMP       (what the `mtlxgen` script runs)
-MaterialX: python -c '...'  import MaterialX and its GenGlsl, load the standard libraries, read FILE, generate
+MaterialX: python -c '...'  import MaterialX and its GenGlsl, load the standard libraries, read FILE (setDataLibrary), generate
            ELEMENT with GlslShaderGenerator in a GenContext, write its vertex and pixel code to TMP
 Both with this interpreter (sys.executable, not a shim), the runs taking turns; ours after one warming run
 (its library cache written). Also `mtlxgen --help`, against `python -c pass` (the interpreter alone).
@@ -41,7 +41,7 @@ lib = mx.createDocument()
 mx.loadLibraries(mx.getDefaultDataLibraryFolders(), search, lib)
 doc = mx.createDocument()
 mx.readFromXmlFile(doc, path, search)
-doc.importLibrary(lib)
+doc.setDataLibrary(lib)
 gen = mx_glsl.GlslShaderGenerator.create()
 ctx = mx_gen.GenContext(gen)
 ctx.registerSourceCodeSearchPath(search)
@@ -60,7 +60,7 @@ def first_element(path):
     mx.readFromXmlFile(doc, path, mx.getDefaultDataSearchPath())
     lib = mx.createDocument()
     mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), lib)
-    doc.importLibrary(lib)
+    doc.setDataLibrary(lib)
     found = mx_gen.findRenderableElements(doc)
     return found[0].getNamePath() if found else None
 
