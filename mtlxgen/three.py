@@ -22,7 +22,7 @@ import shutil
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
-from .web import ASSETS, MAX_TEXTURE_PIXELS, MAX_TEXTURES_PIXELS, _html_text, _too_big, webgl_source
+from .web import ASSETS, MAX_TEXTURE_PIXELS, MAX_TEXTURES_PIXELS, _html_text, _too_big, fill, webgl_source
 
 RUNTIME = "mtlxgen_three.js"
 ENVIRONMENT = "environment.exr"
@@ -213,11 +213,8 @@ def module_text(shader, textures):
 def example_html(shader, size, samples):
     with open(os.path.join(ASSETS, "three_example.html"), encoding="utf-8") as f:
         text = f.read()
-    return (text.replace("{{TITLE}}", _html_text(shader.element))
-            .replace("{{MODULE}}", "./%s.js" % shader.stem)
-            .replace("{{SIZE}}", str(int(size)))
-            .replace("{{SAMPLES}}", str(int(samples)))
-            .replace("{{ENVIRONMENT}}", ENVIRONMENT))
+    return fill(text, {"TITLE": _html_text(shader.element), "MODULE": "./%s.js" % shader.stem, "SIZE": str(int(size)),
+                       "SAMPLES": str(int(samples)), "ENVIRONMENT": ENVIRONMENT})
 
 
 def write_runtime(out_dir):

@@ -288,13 +288,15 @@ def _html_text(text):
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
 
 
+def fill(template, values):
+    """The template with each {{NAME}} replaced by values[NAME], in one pass (a value holding "{{...}}", such as
+    an element's name, stays as it is)."""
+    return re.sub(r"\{\{([A-Z]+)\}\}", lambda m: values[m.group(1)], template)
+
+
 def page_html(data):
-    viewer = _asset("viewer.js")
-    return (_asset("page.html")
-            .replace("{{TITLE}}", _html_text(data["element"]))
-            .replace("{{SIZE}}", str(data["size"]))
-            .replace("{{DATA}}", _script_json(data))
-            .replace("{{VIEWER}}", viewer.replace("</", "<\\/")))
+    return fill(_asset("page.html"), {"TITLE": _html_text(data["element"]), "SIZE": str(data["size"]),
+                                      "DATA": _script_json(data), "VIEWER": _asset("viewer.js").replace("</", "<\\/")})
 
 
 def write_page(shader, out_dir, environment, size, samples):

@@ -79,6 +79,20 @@ def test_web_page_draws_what_render_draws(browser, renderer, tmp_path, case):
     opened.page.context.close()
 
 
+def test_unlit_page_is_render_to_the_byte(browser, renderer, tmp_path):
+    """No sampling in an unlit shader: inside the sphere the page holds render's bytes (to rounding)."""
+    page_path = write_page(tmp_path, "examples/unlit_checker.mtlx", "M_checker")
+    opened, _ = open_offline(browser, page_path)
+    got = opened.pixels()
+    opened.page.context.close()
+    want = reference(renderer, "examples/unlit_checker.mtlx", "M_checker")
+    assert (want[..., 3] == 255).sum() > 0.3 * SIZE * SIZE
+    inside = (want[..., 3] == 255) & (got[..., 3] == 255)       # edge pixels: the rasterizers' coverage differs
+    assert inside.sum() > 0.99 * (want[..., 3] == 255).sum()
+    assert np.abs(got.astype(int) - want.astype(int))[inside].max() <= 1
+    assert_parity("web unlit checker", got, want)
+
+
 def test_orbit_and_zoom(browser, tmp_path):
     """Dragging turns the view, a double click brings back render's exact view, the wheel zooms in."""
     page_path = write_page(tmp_path, "examples/usd/usd_seed_rules.mtlx", "gold")
@@ -163,6 +177,15 @@ def test_webgl_source_rewrites_struct_selections():
     assert "float b = (w > 0.0) ? 1.0 : 2.0;" in out          # not a struct: as it was
     plain = "void main() { float b = (w > 0.0) ? 1.0 : 2.0; }\n"
     assert web.webgl_source(plain) == plain
+
+
+def test_page_text_from_a_document_is_inert():
+    """An element's name is text in the page: escaped in HTML, a JSON string in the data, never a placeholder."""
+    data = {"element": "</script><b>{{DATA}}", "size": 8}
+    html = web.page_html(data)
+    assert "</script><b>" not in html and html.count('id="mtlxgen-data"') == 1
+    assert "&lt;/script&gt;&lt;b&gt;{{DATA}}" in html
+    assert json.loads(re.search(r'id="mtlxgen-data">(.*?)</script>', html, re.S).group(1)) == data
 
 
 def test_page_data_holds_the_manifest_values(tmp_path):
