@@ -146,6 +146,48 @@ def test_environment_file_is_the_one_drawn(browser, renderer, tmp_path):
     opened.page.context.close()
 
 
+def _project_essl_shaders():
+    import glob
+    out = []
+    for doc in sorted(glob.glob(_path("examples/**/*.mtlx"), recursive=True)
+                      + glob.glob(_path("tests/data/**/*.mtlx"), recursive=True)):
+        try:
+            shaders, _ = pipeline.generate(doc, partial=True, target="essl")
+        except Exception:           # documents that are meant to fail (tests of errors)
+            continue
+        out += [("%s:%s" % (os.path.relpath(doc, ROOT), s.element), s) for s in shaders]
+    return out
+
+
+def test_every_project_element_is_valid_webgl(browser):
+    """WebGL's validator (ANGLE, stricter than GLSL ES 3.00) compiles and links every element of examples/ and
+    tests/data as the pages and modules carry it."""
+    shaders = _project_essl_shaders()
+    assert len(shaders) > 100
+    page = browser.new_page()
+    try:
+        page.set_content("<canvas></canvas>")
+        failures = []
+        for name, s in shaders:
+            log = page.evaluate("""([v, f]) => {
+                const gl = document.querySelector('canvas').getContext('webgl2'), p = gl.createProgram();
+                for (const [type, src] of [[gl.VERTEX_SHADER, v], [gl.FRAGMENT_SHADER, f]]) {
+                    const sh = gl.createShader(type);
+                    gl.shaderSource(sh, src);
+                    gl.compileShader(sh);
+                    if (!gl.getShaderParameter(sh, gl.COMPILE_STATUS)) return gl.getShaderInfoLog(sh);
+                    gl.attachShader(p, sh);
+                }
+                gl.linkProgram(p);
+                return gl.getProgramParameter(p, gl.LINK_STATUS) ? '' : 'link: ' + gl.getProgramInfoLog(p);
+            }""", [web.webgl_source(s.vertex), web.webgl_source(s.fragment)])
+            if log:
+                failures.append("%s: %s" % (name, log.strip().splitlines()[0]))
+        assert not failures, "%d of %d refused:\n%s" % (len(failures), len(shaders), "\n".join(failures[:20]))
+    finally:
+        page.close()
+
+
 # ---------------------------------------------------------------- without a browser
 
 @pytest.mark.parametrize("shape", [(8, 16, 3), (5, 10, 3), (3, 7, 4), (6, 13, 1), (1, 9, 2), (256, 512, 3)])
