@@ -79,6 +79,27 @@ def test_three_example_draws_what_render_draws(browser, three_dir, renderer, tmp
     assert_parity("three %s" % name, got, want)
 
 
+@pytest.mark.parametrize("doc, element", [("examples/unlit_checker.mtlx", "M_checker"),
+                                          ("tests/data/targets/struct_uniform.mtlx", "out")],
+                         ids=["unlit_checker", "struct_uniform"])
+def test_three_unlit_is_render_to_the_byte(browser, three_dir, renderer, tmp_path, doc, element):
+    """Unlit (no sampling): inside the sphere three's canvas holds render's bytes; a uniform of the document's
+    own struct type is set member by member."""
+    stem = write_module(tmp_path, doc, element, three_dir)
+    server = Server(tmp_path)
+    try:
+        opened = open_page(browser, server.url(stem + ".html"))
+        got = opened.pixels()
+        opened.page.context.close()
+    finally:
+        server.close()
+    want = images.to_srgb8(renderer.render(pipeline.generate(_path(doc), [element])[0]))
+    inside = (want[..., 3] == 255) & (got[..., 3] == 255)
+    assert inside.sum() > 0.99 * (want[..., 3] == 255).sum() > 0.3 * SIZE * SIZE
+    assert np.abs(got.astype(int) - want.astype(int))[inside].max() <= 1
+    assert_parity("three %s" % element, got, want)
+
+
 def test_module_api_in_node(three_dir, tmp_path):
     """Without a browser: createMaterial's uniforms hold the manifest's values, onBeforeRender sets the
     matrices from the object and camera, prepareGeometry shares three's buffers under our names."""

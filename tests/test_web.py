@@ -79,18 +79,23 @@ def test_web_page_draws_what_render_draws(browser, renderer, tmp_path, case):
     opened.page.context.close()
 
 
-def test_unlit_page_is_render_to_the_byte(browser, renderer, tmp_path):
+UNLIT = [("examples/unlit_checker.mtlx", "M_checker"),
+         ("tests/data/targets/struct_uniform.mtlx", "out")]      # a uniform of the document's own struct type
+
+
+@pytest.mark.parametrize("doc, element", UNLIT, ids=["unlit_checker", "struct_uniform"])
+def test_unlit_page_is_render_to_the_byte(browser, renderer, tmp_path, doc, element):
     """No sampling in an unlit shader: inside the sphere the page holds render's bytes (to rounding)."""
-    page_path = write_page(tmp_path, "examples/unlit_checker.mtlx", "M_checker")
+    page_path = write_page(tmp_path, doc, element)
     opened, _ = open_offline(browser, page_path)
     got = opened.pixels()
     opened.page.context.close()
-    want = reference(renderer, "examples/unlit_checker.mtlx", "M_checker")
+    want = reference(renderer, doc, element)
     assert (want[..., 3] == 255).sum() > 0.3 * SIZE * SIZE
     inside = (want[..., 3] == 255) & (got[..., 3] == 255)       # edge pixels: the rasterizers' coverage differs
     assert inside.sum() > 0.99 * (want[..., 3] == 255).sum()
     assert np.abs(got.astype(int) - want.astype(int))[inside].max() <= 1
-    assert_parity("web unlit checker", got, want)
+    assert_parity("web %s" % element, got, want)
 
 
 def test_orbit_and_zoom(browser, tmp_path):

@@ -29,6 +29,14 @@ function uniformValue(THREE, type, value) {
   return value;
 }
 
+// A uniform of a document's own struct type is an object of its members (an array of them for an array);
+// anything else as uniformValue gives it.
+function structValue(THREE, u) {
+  if (!u.members) return uniformValue(THREE, u.type, u.value);
+  const one = (v) => Object.fromEntries(u.members.map((m, i) => [m.name, uniformValue(THREE, m.type, v[i])]));
+  return /\[\d+\]$/.test(u.type) ? u.value.map(one) : one(u.value);
+}
+
 // A 1x1 RGBA float texture (render's constant_texture): an image node's default colour, or transparent black.
 export function constantTexture(THREE, value) {
   let v = value === null || value === undefined ? [0, 0, 0, 0] : flatten(value);
@@ -130,7 +138,7 @@ export async function loadTexture(THREE, url, entry = {}, options = {}) {
 export function createMaterial(THREE, element, options = {}) {
   const { manifest } = element;
   const uniforms = {};
-  for (const u of manifest.uniforms) uniforms[u.name] = { value: uniformValue(THREE, u.type, u.value) };
+  for (const u of manifest.uniforms) uniforms[u.name] = { value: structValue(THREE, u) };
   for (const a of manifest.application) {
     if (a.type === "sampler2D") uniforms[a.name] = { value: constantTexture(THREE, null) };
     else if (a.default !== null && a.default !== undefined) uniforms[a.name] = { value: uniformValue(THREE, a.type, a.default) };

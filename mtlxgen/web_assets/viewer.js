@@ -210,7 +210,7 @@
   }
 
   // ------------------------------------------------------------ setup
-  var size = data.size, prog, encodeProg, vao, indexType, count, units = [], fbo, colour;
+  var size = data.size, prog, encodeProg, vao, indexType, count, units = [], fbo, colour, known;
   try {
     prog = link(data.vertex, data.fragment, "element " + data.element);
     encodeProg = link(ENCODE_VS, ENCODE_FS, "the sRGB encode pass");
@@ -269,7 +269,10 @@
 
     // the material's public inputs, from the manifest's values (ES has no uniform initializers)
     gl.useProgram(prog);
-    var known = structs(data.vertex + "\n" + data.fragment);
+    known = structs(data.vertex + "\n" + data.fragment);
+    data.uniforms.concat(data.application).forEach(function (u) {  // the manifest's member lists, where given
+      if (u.members) known[u.type.replace(/\[\d+\]$/, "")] = u.members.map(function (m) { return [m.type, m.name]; });
+    });
     data.uniforms.forEach(function (u) { setUniform(prog, known, u.name, u.type, u.value); });
   } catch (e) {
     fail("mtlxgen: " + (e && e.message ? e.message : e));
@@ -289,7 +292,6 @@
       u_envLightIntensity: 1.0, u_numActiveLightSources: 0, u_envSampleFrame: 0, u_envSampleFrames: 1
     };
     gl.useProgram(prog);
-    var known = structs(data.fragment);
     data.application.forEach(function (u) {
       if (/^sampler/.test(u.type)) return;
       setUniform(prog, known, u.name, u.type, u.name in app ? app[u.name] : u["default"]);
