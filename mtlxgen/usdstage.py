@@ -517,8 +517,45 @@ class _StageReader:
                              consumer=info.element)
         if port is not None:
             node.inputs["surfaceshader"] = port
+        disp = self.displacement(mat, context, info, problems, deps)
+        if disp is not None:
+            node.inputs["displacementshader"] = disp
         self.items[key] = (problems, notes, ignored, deps, [])
         self.collect(key, info)
+
+    def displacement(self, mat, context, info, problems, deps):
+        """The port of the material's displacementshader input, from its displacement output of the drawn
+        context (outputs:mtlx:displacement or outputs:displacement); None where none is connected.
+
+        A universal displacement connects to a UsdPreviewSurface's outputs:displacement: the surface moves
+        along its normal by the shader's `displacement` input (UsdPreviewSurface Specification 2.5), which is
+        a displacement node (ND_displacement_float, scale 1) reading that input. A MaterialX network's
+        connects to a displacementshader (ND_displacement_float / _vector3), read as any node."""
+        from pxr import UsdShade
+        out = mat.GetDisplacementOutput("mtlx" if context == "mtlx" else "")
+        if not out or not out.GetAttr().IsValid() or not out.GetAttr().HasAuthoredConnections():
+            return None
+        target = self.resolve(out, None, problems)
+        if target is None or target[0] == "value":
+            return None
+        if target[0] == "node" and self.spec(target[1]).shader_id == "UsdPreviewSurface":
+            amount = UsdShade.Shader(target[1]).GetInput("displacement")
+            if not amount:
+                return None         # nothing authored: the default, 0, moves nothing
+            name = self.top_name(info.element + "_displacement")
+            loc = self.attr_loc(out.GetAttr())
+            dnode = Node(category="displacement", name=name, type="displacementshader", loc=loc,
+                         nodedef="ND_displacement_float")
+            dport = self.port_for(amount, "displacement", "displacement", "float", None, problems, deps,
+                                  consumer=name)
+            if dport is None:
+                return None
+            dnode.inputs["displacement"] = dport
+            self.doc.nodes[name] = dnode
+            self.doc.order.append(name)
+            return Port(name="displacementshader", type="displacementshader", loc=loc, nodename=name)
+        return self.port_for(out, "surfacematerial", "displacementshader", "displacementshader", None, problems,
+                             deps, consumer=info.element)
 
     def collect(self, start, info):
         """Convert everything the material reaches (work list, no recursion) and gather its problems."""

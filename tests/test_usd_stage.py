@@ -1266,3 +1266,77 @@ def test_stage_shaders_are_valid_to_the_reference_compiler(tmp_path, monkeypatch
     paths = [os.path.join(USD_DATA, entry) for entry in sorted(DATA_STAGES)] + [_primvar_stage(tmp_path)]
     count, errors = check_documents(paths, str(tmp_path))
     assert count >= len(paths) and not errors, errors[:10]
+
+
+# ---------------------------------------------------------------- displacement
+
+BUMPY_MTLX = """
+  <UsdUVTexture name="height" type="multioutput">
+    <input name="file" type="filename" value="mask.png" />
+    <input name="sourceColorSpace" type="string" value="raw" />
+    <input name="scale" type="color4" value="0.25, 0.25, 0.25, 1" />
+  </UsdUVTexture>
+  <UsdPreviewSurface name="surface" type="surfaceshader">
+    <input name="diffuseColor" type="color3" value="0.6, 0.3, 0.2" />
+    <input name="displacement" type="float" nodename="height" output="r" />
+  </UsdPreviewSurface>
+  <displacement name="bump" type="displacementshader">
+    <input name="displacement" type="float" nodename="height" output="r" />
+  </displacement>
+  <surfacematerial name="Bumpy" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="surface" />
+    <input name="displacementshader" type="displacementshader" nodename="bump" />
+  </surfacematerial>
+"""
+
+
+def _bumpy(stage, root, amount):
+    mat = UsdShade.Material.Define(stage, root)
+    height = _shader(stage, root + "/Height", "UsdUVTexture", file=(T.Asset, "mask.png"),
+                     sourceColorSpace=(T.Token, "raw"), scale=(T.Float4, Gf.Vec4f(0.25, 0.25, 0.25, 1)))
+    surf = _shader(stage, root + "/Surface", "UsdPreviewSurface", diffuseColor=(T.Color3f, Gf.Vec3f(0.6, 0.3, 0.2)))
+    if amount == "texture":
+        _connect(surf, "displacement", T.Float, height, "r", T.Float)
+    elif amount is not None:
+        surf.CreateInput("displacement", T.Float).Set(amount)
+    _surface(mat, surf)
+    mat.CreateDisplacementOutput().ConnectToSource(surf.ConnectableAPI(), "displacement")
+    return mat
+
+
+def test_preview_surface_displacement_moves_the_surface_as_its_mtlx_form(renderer, tmp_path):
+    """A Material's outputs:displacement connected to its UsdPreviewSurface moves the surface along the normal by
+    the shader's `displacement` input (here a texture's channel): the vertex stage reads it, and the picture is
+    the .mtlx form's (a displacement node on the surfacematerial) pixel for pixel. Without outputs:displacement,
+    or with no displacement authored, nothing moves."""
+    _textures(tmp_path)
+    stage = Usd.Stage.CreateNew(str(tmp_path / "bumpy.usda"))
+    _bumpy(stage, "/Root/Bumpy", "texture")
+    _bumpy(stage, "/Root/Flat", None)
+    _bumpy(stage, "/Root/Pushed", 0.2)
+    mx = UsdShade.Material.Define(stage, "/Root/MxPushed")          # a MaterialX network's displacement
+    mx_surface = _shader(stage, "/Root/MxPushed/Surface", "ND_UsdPreviewSurface_surfaceshader",
+                         diffuseColor=(T.Color3f, Gf.Vec3f(0.6, 0.3, 0.2)))
+    mx_disp = _shader(stage, "/Root/MxPushed/Disp", "ND_displacement_float", displacement=(T.Float, 0.2))
+    _surface(mx, mx_surface, "mtlx")
+    mx.CreateDisplacementOutput("mtlx").ConnectToSource(mx_disp.ConnectableAPI(), "out")
+    plain = UsdShade.Material.Define(stage, "/Root/Plain")
+    _surface(plain, _shader(stage, "/Root/Plain/Surface", "UsdPreviewSurface",
+                            diffuseColor=(T.Color3f, Gf.Vec3f(0.6, 0.3, 0.2))))
+    stage.GetRootLayer().Save()
+    write_doc(tmp_path, BUMPY_MTLX, name="bumpy.mtlx")
+    ours, shader = _render(renderer, tmp_path / "bumpy.usda", "/Root/Bumpy")
+    theirs, _ = _render(renderer, tmp_path / "bumpy.mtlx", "Bumpy")
+    _same(ours, theirs, "Bumpy")
+    assert "mg_displacement" in shader.vertex and "sampler2D" in shader.vertex
+    flat, flat_shader = _render(renderer, tmp_path / "bumpy.usda", "/Root/Flat")
+    plain_img, _ = _render(renderer, tmp_path / "bumpy.usda", "/Root/Plain")
+    _same(flat, plain_img, "no displacement authored")
+    assert "mg_displacement" not in flat_shader.vertex
+    pushed, _ = _render(renderer, tmp_path / "bumpy.usda", "/Root/Pushed")
+    # a constant 0.2 along the normal makes the unit sphere one of radius 1.2: it covers more of the image
+    assert (pushed[..., 3] > 0).sum() > (plain_img[..., 3] > 0).sum() * 1.2
+    assert np.abs(ours - plain_img).max() > 0.01, "the texture's displacement changes the picture"
+    mx_pushed, mx_shader = _render(renderer, tmp_path / "bumpy.usda", "/Root/MxPushed")
+    assert "mg_displacement" in mx_shader.vertex
+    assert abs(int((mx_pushed[..., 3] > 0).sum()) - int((pushed[..., 3] > 0).sum())) <= 2
