@@ -12,7 +12,7 @@ import os
 import re
 from dataclasses import dataclass, field
 
-from . import interface, mxtypes, nodes, streams, targets
+from . import glsldeps, interface, mxtypes, nodes, streams, targets
 from .diagnostics import MtlxError
 from .graph import glsl_identifier, unique_identifier
 from .library import glsl_lib_root
@@ -598,8 +598,8 @@ class Emitter:
         frag += decl.varyings("in", list(self.streams.values()))
         frag.append("layout(location = 0) out vec4 out_color;")
         frag.append("")
-        for rel in self.files:
-            text, _ = read_lib_file(rel)
+        roots = frag + self.body + [out_expr] + [text for _, text in self.external]
+        for rel, text in glsldeps.used_code([(r, read_lib_file(r)[0]) for r in self.files], roots):
             frag.append("// ---- glsl_lib/%s" % rel)
             frag.append(text.rstrip() + "\n")
         for path, text in self.external:
@@ -701,13 +701,13 @@ class VertexStage:
         body = ["    vec4 world_position = u_worldMatrix * vec4(i_position, 1.0);"]
         if displacer is not None:
             files = ["closures.glsl"] + [f for f in displacer.files if f != "closures.glsl"]
-            for rel in files:
-                lines.append("// ---- glsl_lib/%s" % rel)
-                lines.append(read_lib_file(rel)[0].rstrip() + "\n")
             body += displacer.body
             body += ["    displacementshader mg_displacement = %s;" % displacer.result,
                      "    world_position = u_worldMatrix * vec4(i_position + mg_displacement.offset * "
                      "mg_displacement.scale, 1.0);"]
+            for rel, text in glsldeps.used_code([(r, read_lib_file(r)[0]) for r in files], lines + body):
+                lines.append("// ---- glsl_lib/%s" % rel)
+                lines.append(text.rstrip() + "\n")
         lines += ["", "void main()", "{"] + body
         lines += ["    gl_Position = u_viewProjectionMatrix * world_position;"]
         lines += ["    v_%s = %s;" % (s.name, s.vertex) for s in em.streams.values()]
