@@ -1,0 +1,201 @@
+#!/usr/bin/env python3
+"""Developer tool: the scoreboard's measure over any folder of .mtlx documents (issue 16: documents the project
+has not seen). For every renderable element MaterialX finds in each document, as the scoreboard counts them:
+
+  mx         MaterialX's GenGlsl (with its colour-management system on, as its viewer and the scoreboard run
+             it) generated a shader: elements it cannot generate are listed and not counted
+  generated  ours generated a vertex/fragment pair
+  compiled   ours links (OpenGL 4.x, the scoreboard's scene)
+  parity     ours and MaterialX's, both drawn in the scoreboard's scene (render.Renderer.scoreboard, the same
+             pixels as ../shared/tools/mxharness.py), differ by a mean <= 2/255 and <= 1% of pixels > 8/255
+
+usage: tools/unseen_sweep.py PATH [PATH ...] [--out DIR] [--size N] [--no-color-management] [--ref-cache DIR]
+                             [--json FILE] [--only SUBSTRING]
+PATH: .mtlx files or folders (searched recursively). Prints a table per document, then each element that is
+not at parity with its metric and a side-by-side image (ours | MaterialX | difference x8) under --out.
+--ref-cache keeps MaterialX's renders keyed by its shader text, so that a second sweep after a change of ours
+draws only ours. Exit status 0 (it measures; it does not judge).
+"""
+import argparse
+import hashlib
+import json
+import os
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, ROOT)
+CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
+
+import numpy as np  # noqa: E402
+
+from mtlxgen import compare, images, pipeline  # noqa: E402
+from mtlxgen.diagnostics import MtlxError  # noqa: E402
+from mtlxgen.reference import MaterialXReference  # noqa: E402
+from mtlxgen.render import Renderer  # noqa: E402
+
+
+def documents(paths):
+    out = []
+    for p in paths:
+        if os.path.isdir(p):
+            out += sorted(os.path.join(dp, f) for dp, _, fs in os.walk(p) for f in fs if f.endswith(".mtlx"))
+        else:
+            out.append(p)
+    return [os.path.abspath(p) for p in out]
+
+
+def first_line(e, limit=110):
+    text = e.lines()[0] if isinstance(e, MtlxError) else str(e).strip()
+    lines = [ln for ln in text.splitlines() if ln.strip()]
+    return (lines[-1] if lines else type(e).__name__)[:limit]
+
+
+class Sweep:
+    def __init__(self, size=None, color_management=True, ref_cache=None, out=None):
+        self.ref = MaterialXReference([CORPUS] if os.path.isdir(CORPUS) else [], color_management=color_management)
+        self.harness = Renderer.scoreboard(**({"size": size} if size else {}))
+        self.ref_cache = ref_cache
+        self.out = out
+        if ref_cache:
+            os.makedirs(ref_cache, exist_ok=True)
+
+    def theirs(self, vs, fs, tex):
+        key = hashlib.sha256(json.dumps([vs, fs, sorted(tex.items()), self.harness.size]).encode()).hexdigest()
+        cached = os.path.join(self.ref_cache, key + ".npy") if self.ref_cache else None
+        if cached and os.path.exists(cached):
+            return np.load(cached)
+        img, _ = self.harness.render_timed(vs, fs, None, tex)
+        if cached:
+            np.save(cached, img)
+        return img
+
+    def document(self, path, report=None):
+        """(rows, note): one row per element MaterialX finds renderable; note says why there are none.
+        report(row) is called as each row is done."""
+        try:
+            doc = self.ref.load(path)
+            elements = [e.getNamePath() for e in self.ref.mx_gen.findRenderableElements(doc)]
+        except Exception as e:
+            return [], "MaterialX cannot read it: %s" % first_line(e)
+        try:
+            shaders, problems = pipeline.generate(path, elements, partial=True)
+        except MtlxError as e:
+            shaders, problems = [], e
+        except Exception as e:   # a bug of ours: every element fails alike
+            shaders, problems = [], e
+        ours = {s.element: s for s in shaders}
+        problem_text = first_line(problems) if problems is not None else ""
+        rows = []
+        for element in elements:
+            row = {"file": path, "element": element, "mx": False, "generated": False, "compiled": False,
+                   "parity": False}
+            rows.append(row)
+            self.measure(path, doc, element, ours.get(element), problem_text, row)
+            if report:
+                report(row)
+        return rows, "" if elements else "no renderable element"
+
+    def measure(self, path, doc, element, shader, problem_text, row):
+        """Fill one row: MaterialX generates it, ours is generated, compiles, and at parity."""
+        try:
+            vs, fs, tex, _ = self.ref.generate(path, element, doc)
+            row["mx"] = True
+        except Exception as e:
+            row["mx_error"] = first_line(e)
+            return
+        if shader is None:
+            row["error"] = problem_text or "not generated"
+            return
+        row["generated"] = True
+        try:
+            mine, _ = self.harness.render_timed(shader.vertex, shader.fragment, None,
+                                                {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
+            row["compiled"] = True
+        except Exception as e:
+            row["error"] = "does not compile: " + first_line(e)
+            return
+        try:
+            theirs = self.theirs(vs, fs, tex)
+        except Exception as e:
+            row["mx"] = False
+            row["mx_error"] = "MaterialX's shader does not compile: " + first_line(e)
+            return
+        p = compare.parity(mine, theirs)
+        row.update(parity=p.passes, mean=round(p.mean, 3), fraction=round(p.fraction, 5), max=p.max)
+        if self.out and not p.passes:
+            a, b = images.to_srgb8(mine)[..., :3], images.to_srgb8(theirs)[..., :3]
+            d = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(-1)
+            heat = np.repeat(np.clip(d * 8, 0, 255)[..., None], 3, -1).astype(np.uint8)
+            name = os.path.splitext(os.path.basename(path))[0] + "__" + element.replace("/", "_") + ".png"
+            row["image"] = os.path.join(self.out, name)
+            images.write_image(row["image"], np.concatenate([a, b, heat], axis=1))
+
+
+def table(results, base):
+    """The per-document table (markdown) and the totals."""
+    lines = ["| document | elements | MaterialX generates | generated | compiled | parity |",
+             "|---|---|---|---|---|---|"]
+    tot = [0] * 5
+    for path, rows, note in results:
+        counted = [r for r in rows if r["mx"]]
+        n = [len(rows), len(counted), sum(r["generated"] for r in counted), sum(r["compiled"] for r in counted),
+             sum(r["parity"] for r in counted)]
+        tot = [a + b for a, b in zip(tot, n)]
+        name = os.path.relpath(path, base) if base else path
+        lines.append("| %s | %d | %d | %d | %d | %d |%s" % ((name,) + tuple(n) + ((" " + note) if note else "",)))
+    lines.append("| **all (%d documents)** | %d | %d | %d | %d | %d |" % ((len(results),) + tuple(tot)))
+    return "\n".join(lines), tot
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("paths", nargs="+")
+    ap.add_argument("--out", default=None, help="folder for side-by-side images of the elements not at parity "
+                                                "(default: a new temporary folder)")
+    ap.add_argument("--size", type=int, default=None, help="render size (default: the scoreboard's)")
+    ap.add_argument("--no-color-management", action="store_true",
+                    help="MaterialX without its colour-management system (the scoreboard runs with it)")
+    ap.add_argument("--ref-cache", default=None, help="folder of MaterialX's renders, keyed by its shader text")
+    ap.add_argument("--json", default=None, help="write every row here")
+    ap.add_argument("--only", default=None, help="only documents whose path contains this")
+    args = ap.parse_args()
+    files = documents(args.paths)
+    if args.only:
+        files = [f for f in files if args.only in f]
+    out = args.out or tempfile.mkdtemp(prefix="unseen-")
+    os.makedirs(out, exist_ok=True)
+    base = os.path.commonpath([os.path.dirname(f) for f in files]) if files else ""
+    sweep = Sweep(args.size, not args.no_color_management, args.ref_cache, out)
+    results, t0 = [], time.time()
+
+    def report(r):
+        if not r["mx"]:
+            status = "MaterialX cannot generate it: " + r.get("mx_error", "")
+        elif r["parity"]:
+            status = "PASS  mean %.2f, %.2f%% > 8/255" % (r["mean"], 100 * r["fraction"])
+        elif "mean" in r:
+            status = "FAIL  mean %.2f, %.2f%% > 8/255, max %d  %s" % (r["mean"], 100 * r["fraction"], r["max"],
+                                                                     r.get("image", ""))
+        else:
+            status = "FAIL  " + r.get("error", "")
+        print("%-70s %s" % ((os.path.relpath(r["file"], base) + " " + r["element"])[-70:], status), flush=True)
+
+    for path in files:
+        rows, note = sweep.document(path, report)
+        results.append((path, rows, note))
+        if note:
+            print("%-70s %s" % (os.path.relpath(path, base)[-70:], note), flush=True)
+    text, tot = table(results, base)
+    print()
+    print(text)
+    print("\n%d elements MaterialX generates: generated %d, compiled %d, parity %d (%.0f s); images in %s"
+          % (tot[1], tot[2], tot[3], tot[4], time.time() - t0, out))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump([r for _, rows, _ in results for r in rows], f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
