@@ -9,9 +9,10 @@ uniform keeps its authored value and a cmlib node converts it in the shader, a c
 here (convert_value, the same formulas in numpy).
 
 The names are MaterialX's, case and all: its default system knows exactly the spaces with a
-`ND_<space>_to_lin_rec709_*` nodedef, plus the four names REMAP gives another (gamma18, gamma22,
-gamma24, lin_ap1). Any other name (lin_srgb, g18_ap1, raw, an OCIO name, "sRGB") it leaves unconverted,
-and so do we; so does a document whose working space is not lin_rec709 (the only target cmlib has).
+`ND_<space>_to_lin_rec709_*` nodedef, plus the names REMAP gives another (gamma18, gamma22, gamma24,
+lin_ap1, and the Color Interop Forum's *_scene names). Any other name (lin_srgb, g18_ap1, raw, an OCIO
+name, "sRGB") it leaves unconverted, and so do we; so does a document whose working space is not
+lin_rec709 or lin_rec709_scene (the only target cmlib has).
 """
 WORKING_SPACE = "lin_rec709"
 
@@ -33,8 +34,16 @@ COLORSPACES = {
     "lin_displayp3": ((_P3,), "mg_displayp3_to_rec709({c})"),
     "srgb_displayp3": ((_SRGB, _P3), "mg_displayp3_to_rec709(mg_srgb_to_linear({c}))"),
 }
-# names MaterialX's default colour-management system reads as another space (and only these)
-REMAP = {"gamma18": "g18_rec709", "gamma22": "g22_rec709", "gamma24": "rec709_display", "lin_ap1": "acescg"}
+# names MaterialX's default colour-management system reads as another space (and only these): the older
+# aliases, and the ASWF Color Interop Forum's scene-referred names (MaterialX 1.39.5, measured with the wheel:
+# tests/test_unseen_classes.py). g24_rec709_scene, srgb_ap1_scene, lin_ap0_scene, lin_rec2020_scene and
+# lin_ciexyzd65_scene it names but does not convert, nor do we.
+REMAP = {"gamma18": "g18_rec709", "gamma22": "g22_rec709", "gamma24": "rec709_display", "lin_ap1": "acescg",
+         "srgb_rec709_scene": "srgb_texture", "g22_rec709_scene": "g22_rec709", "g18_rec709_scene": "g18_rec709",
+         "lin_ap1_scene": "acescg", "g22_ap1_scene": "g22_ap1", "lin_adobergb_scene": "lin_adobergb",
+         "g22_adobergb_scene": "adobergb", "srgb_p3d65_scene": "srgb_displayp3", "lin_p3d65_scene": "lin_displayp3"}
+# the working space under its interop name too
+WORKING_SPACES = (WORKING_SPACE, "lin_rec709_scene")
 
 
 def canonical(colorspace):
@@ -50,9 +59,10 @@ def transform(colorspace):
 
 
 def is_working_space(colorspace):
-    """Whether a document colour space is lin_rec709, the one space cmlib converts to (MaterialX compares
-    the names as they are: a document in lin_srgb has no transforms to it)."""
-    return colorspace == WORKING_SPACE
+    """Whether a document colour space is lin_rec709 (or its interop name lin_rec709_scene), the one space
+    cmlib converts to (MaterialX compares the names as they are: a document in lin_srgb has no transforms
+    to it)."""
+    return colorspace in WORKING_SPACES
 
 
 def nodedef_name(colorspace, type_name):
