@@ -273,7 +273,29 @@ class GraphBuilder:
             self.warn(port.loc, "'%s' connects to multi-output node '%s' without naming an output: reads its first "
                                 "output, '%s', as MaterialX does" % (port.name, node.name, first))
             return outs[first]
+        if port.output and scope is self.doc_scope:
+            return self.document_output(port)
         return None
+
+    def document_output(self, port):
+        """An `output` named alone, at the document's level, connects to the document's top-level output of that
+        name (as MaterialX's Input::getConnectedOutput reads it: 1.37's bindinput output=, upgraded)."""
+        out = self.doc.outputs.get(port.output)
+        if out is None or out is port:
+            return self.dangling(port, "'%s' connects to output '%s', which the document does not have"
+                                 % (port.name, port.output))
+        key = "/" + out.name
+        if key in self.graph_path:
+            cycle = self.graph_path[self.graph_path.index(key):] + [key]
+            raise MtlxError((out.loc, "cycle: outputs %s" % " -> ".join("'%s'" % c[1:] for c in cycle)))
+        self.graph_path.append(key)
+        try:
+            src = self.source_of_port(out, self.doc_scope, out.type, out.name)
+        finally:
+            self.graph_path.pop()
+        if src is None:
+            return self.dangling(port, "output '%s' is not connected" % out.name)
+        return src
 
     def dangling(self, port, problem):
         """A connection that leads nowhere: MaterialX's generator drops it and reads the port's own value (its

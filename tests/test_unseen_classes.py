@@ -92,3 +92,81 @@ def test_image_file_in_an_interop_space_matches_materialx(renderer, cms_referenc
     body = ('<image name="c" type="color3"><input name="file" type="filename" value="%s" '
             'colorspace="g22_ap1_scene" /></image>' % grid) + UNLIT
     assert_parity_with_materialx(renderer, cms_reference, _cs_doc(tmp_path, "lin_rec709_scene", body), "m")
+
+
+# ---------------------------------------------------------------- an input naming a top-level output alone
+# MaterialX's TestSuite/stdlib/convolution/heighttonormal_in_nodegraph.mtlx (1.37) binds standard_surface's
+# base_color and normal with `bindinput output="..."`: after the upgrade, an input with an `output` attribute and
+# no node or nodegraph, which MaterialX connects to the document's top-level <output> of that name. We read it as
+# unconnected (a grey, smooth sphere where MaterialX's is blue and bumped: mean 39.5/255, 57% of pixels off).
+
+TOP_OUTPUT = (
+    '<nodedef name="ND_pair" node="pair"><output name="tint" type="color3" /><output name="level" type="float" />'
+    '</nodedef>'
+    '<nodegraph name="NG_pair" nodedef="ND_pair"><position name="p" type="vector3" />'
+    '<convert name="c" type="color3"><input name="in" type="vector3" nodename="p" /></convert>'
+    '<absval name="a" type="color3"><input name="in" type="color3" nodename="c" /></absval>'
+    '<constant name="k" type="float"><input name="value" type="float" value="0.35" /></constant>'
+    '<output name="tint" type="color3" nodename="a" /><output name="level" type="float" nodename="k" /></nodegraph>'
+    '<pair name="inst" type="multioutput" />'
+    '<output name="inst_tint" type="color3" nodename="inst" output="tint" />'
+    '<output name="inst_level" type="float" nodename="inst" output="level" />'
+    '<standard_surface name="s" type="surfaceshader"><input name="base_color" type="color3" output="%s" />'
+    '<input name="specular_roughness" type="float" output="inst_level" /></standard_surface>'
+    '<surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" nodename="s" />'
+    '</surfacematerial>')
+
+BINDINPUT_137 = """<?xml version="1.0"?>
+<materialx version="1.37">
+  <nodedef name="ND_pair" node="pair"><output name="tint" type="color3" /><output name="level" type="float" /></nodedef>
+  <nodegraph name="NG_pair" nodedef="ND_pair">
+    <constant name="c" type="color3"><parameter name="value" type="color3" value="0.1, 0.3, 0.9" /></constant>
+    <constant name="k" type="float"><parameter name="value" type="float" value="0.6" /></constant>
+    <output name="tint" type="color3" nodename="c" /><output name="level" type="float" nodename="k" />
+  </nodegraph>
+  <pair name="inst" type="multioutput" />
+  <output name="inst_tint" type="color3" nodename="inst" output="tint" />
+  <output name="inst_level" type="float" nodename="inst" output="level" />
+  <material name="m">
+    <shaderref name="s" node="standard_surface">
+      <bindinput name="base_color" type="color3" output="inst_tint" />
+      <bindinput name="specular_roughness" type="float" output="inst_level" />
+    </shaderref>
+  </material>
+</materialx>
+"""
+
+
+def test_input_naming_a_document_output_connects_to_it_like_materialx(renderer, cms_reference, tmp_path):
+    path = write_doc(tmp_path, TOP_OUTPUT % "inst_tint")
+    assert_parity_with_materialx(renderer, cms_reference, path, "m")
+    shader = generate_one(path, "m")
+    assert "s_base_color" not in {u["name"] for u in shader.manifest["uniforms"]}     # connected, not a value
+
+
+def test_bindinput_output_of_137_connects_like_materialx(renderer, cms_reference, tmp_path):
+    path = str(tmp_path / "bind.mtlx")
+    open(path, "w").write(BINDINPUT_137)
+    assert_parity_with_materialx(renderer, cms_reference, path, "m")
+    img = renderer.render(generate_one(path, "m"))
+    centre = img[img.shape[0] // 2, img.shape[1] // 2, :3]
+    assert centre[2] > 2 * centre[0]        # the bound blue, not standard_surface's grey default
+
+
+def test_input_naming_a_missing_document_output_reads_its_value_like_materialx(renderer, cms_reference, tmp_path):
+    from mtlxgen import diagnostics
+    path = write_doc(tmp_path, TOP_OUTPUT % "no_such_output")
+    assert_parity_with_materialx(renderer, cms_reference, path, "m")
+    with pytest.raises(diagnostics.MtlxError, match="no_such_output"):
+        from mtlxgen import pipeline
+        pipeline.generate(path, ["m"], strict=True)
+
+
+def test_document_outputs_naming_each_other_are_a_cycle(tmp_path):
+    from mtlxgen import diagnostics, pipeline
+    body = ('<output name="o1" type="color3" output="o2" /><output name="o2" type="color3" output="o1" />'
+            '<surface_unlit name="s" type="surfaceshader"><input name="emission_color" type="color3" output="o1" />'
+            '</surface_unlit><surfacematerial name="m" type="material"><input name="surfaceshader" '
+            'type="surfaceshader" nodename="s" /></surfacematerial>')
+    with pytest.raises(diagnostics.MtlxError, match="cycle"):
+        pipeline.generate(write_doc(tmp_path, body), ["m"])
