@@ -369,7 +369,7 @@ class GraphBuilder:
 
     def public_value(self, owner, port, declared):
         """An unconnected input at document level: a public uniform initialised with its value."""
-        self.note_value(port if port.value is not None else declared)
+        self.note_value(port if port.value is not None or port.warning else declared)   # value="": its warning
         value = port.value if port.value is not None else declared.value
         if value is None:
             value = mxtypes.zero(declared.type, self.lib.structs)
@@ -567,7 +567,7 @@ class GraphBuilder:
                 if scope.public or decl.type == "filename":
                     src = self.public_value(stem, p, decl)
                 else:
-                    self.note_value(p if p.value is not None else decl)
+                    self.note_value(p if p.value is not None or p.warning else decl)
                     value = p.value if p.value is not None else decl.value
                     if value is None:
                         value = mxtypes.zero(decl.type, self.lib.structs)

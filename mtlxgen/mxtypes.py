@@ -187,6 +187,13 @@ def parse_value(type_name, text, structs=None, slips=None):
     """
     if text is None:
         return None
+    if not text.strip() and type_name in ("float", "integer", "boolean", "color3", "color4", "vector2", "vector3",
+                                          "vector4", "matrix33", "matrix44"):
+        # value="" (seen in exported files): MaterialX reads no value there, so its nodedef's default
+        if slips is None:
+            raise ValueError_("empty value")
+        slips.append("the value is empty: read as no value (its default), as MaterialX reads it")
+        return None
     if type_name == "float":
         return _float(text, None, slips)
     if type_name == "integer":

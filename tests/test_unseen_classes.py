@@ -170,3 +170,53 @@ def test_document_outputs_naming_each_other_are_a_cycle(tmp_path):
             'type="surfaceshader" nodename="s" /></surfacematerial>')
     with pytest.raises(diagnostics.MtlxError, match="cycle"):
         pipeline.generate(write_doc(tmp_path, body), ["m"])
+
+
+# ---------------------------------------------------------------- value="" on a number, colour or vector
+# materialxgltf's standard_surface_marble_solid.mtlx_baked.mtlx (a file written by a converter) carries
+# <input name="alpha_mode" type="integer" value="" />: MaterialX reads no value there, its nodedef's default;
+# we refused the document.
+
+@pytest.mark.parametrize("name, type_name", [("alpha_mode", "integer"), ("alpha_cutoff", "float"),
+                                             ("roughness", "float"), ("base_color", "color3"),
+                                             ("emissive", "color3")])
+def test_empty_value_reads_the_default_like_materialx(renderer, cms_reference, tmp_path, name, type_name):
+    from mtlxgen import diagnostics, pipeline
+    body = ('<gltf_pbr name="s" type="surfaceshader"><input name="%s" type="%s" value="" />'
+            '<input name="alpha" type="float" value="0.6" /><input name="metallic" type="float" value="0.3" />'
+            '</gltf_pbr><surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" '
+            'nodename="s" /></surfacematerial>' % (name, type_name))
+    path = write_doc(tmp_path, body)
+    assert_parity_with_materialx(renderer, cms_reference, path, "m")
+    warnings = diagnostics.Warnings()
+    pipeline.generate(path, ["m"], warnings=warnings)
+    assert any("value is empty" in line and ":3: warning:" in line for line in warnings.lines()), warnings.lines()
+    with pytest.raises(diagnostics.MtlxError, match="empty"):
+        pipeline.generate(path, ["m"], strict=True)
+
+
+def test_empty_string_values_stay_empty_strings(tmp_path):
+    """Only numbers, booleans, colours, vectors and matrices read "" as no value; a string is the empty string."""
+    from mtlxgen import mxtypes
+    assert mxtypes.parse_value("string", "") == ""
+    assert mxtypes.parse_value("filename", "") == ""
+    assert mxtypes.parse_value("floatarray", "") == ()
+    with pytest.raises(mxtypes.ValueError_):
+        mxtypes.parse_value("float", " ")             # refused where no slip is allowed (strict readers)
+    slips = []
+    assert mxtypes.parse_value("color3", "", slips=slips) is None and slips
+
+
+@pytest.mark.parametrize("type_name", ["float", "integer", "boolean", "color3", "vector4", "matrix33"])
+def test_empty_value_is_no_value_in_materialx_and_in_ours(reference, type_name):
+    """MaterialX reads no value from "" (as from "abc"); unlike "abc", which stays refused, "" is read as what it
+    says, no value: the nodedef's default, with a warning (an error under --strict)."""
+    from test_warnings import materialx_value
+    from mtlxgen import mxtypes
+    assert materialx_value(reference, type_name, "") is None
+    slips = []
+    assert mxtypes.parse_value(type_name, "", slips=slips) is None and len(slips) == 1
+    with pytest.raises(mxtypes.ValueError_, match="empty"):
+        mxtypes.parse_value(type_name, "")
+    with pytest.raises(mxtypes.ValueError_):
+        mxtypes.parse_value(type_name, "abc", slips=[])
