@@ -379,7 +379,7 @@ def _struct_types(root, problems, warnings):
     """{name: StructType} of the document's <typedef>s with <member>s (those without members declare
     built-in types, as stdlib's do). Each must be a GLSL struct: named by a GLSL identifier, members of
     value types or other structs of the document, uniquely named, none containing itself."""
-    from .graph import glsl_identifier
+    from .graphtypes import glsl_identifier
     structs, locs = {}, {}
     for el in root.children:
         members = [m for m in el.children if m.tag == "member"] if el.tag == "typedef" else []

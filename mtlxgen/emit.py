@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from . import glsldeps, interface, mxtypes, nodes, streams, targets
 from .diagnostics import MtlxError
-from .graph import glsl_identifier, unique_identifier
+from .graphtypes import glsl_identifier, unique_identifier
 from .library import glsl_lib_root
 
 GLSL_VERSION = targets.TARGETS["glsl"].version
@@ -157,6 +157,8 @@ _ENVIRONMENT_DEFINES = {"fis": [], "prefiltered": ["MG_ENV_PREFILTERED", "MG_REF
 
 
 class Emitter:
+    stage = "fragment"                # the stage its code goes to (VertexEmitter: "vertex")
+
     def __init__(self, graph, environment="fis", target="glsl"):
         if environment not in ENVIRONMENT_METHODS:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
@@ -833,6 +835,7 @@ class Declarations:
 
 class VertexEmitter(Emitter):
     """Emits nodes into the vertex stage (for displacement): streams read the attributes directly."""
+    stage = "vertex"
 
     def __init__(self, graph, target="glsl"):
         super().__init__(graph, target=target)

@@ -413,7 +413,7 @@ class _StageReader:
         return Loc(self.prim_loc(attr.GetPrim()).file, where=str(attr.GetPath()))
 
     def top_name(self, stem):
-        from .graph import unique_identifier
+        from .graphtypes import unique_identifier
         name = stem if stem not in self.taken else unique_identifier(stem, set(self.taken))
         self.taken.add(name)
         return name

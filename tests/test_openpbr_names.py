@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from mtlxgen.nodes.renamed_inputs import OPEN_PBR_DRAFT
+from mtlxgen.renamed_inputs import OPEN_PBR_DRAFT
 from tests.util import write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -127,7 +127,7 @@ def _default_value(node, name="default"):
 
 def _udim_tiles(node, em, sampler, value, colorspace):
     """{(u, v) cell: new sampler uniform} for a file naming <UDIM> or <UVTILE>, one per tile on disk."""
-    from ..graph import Uniform
+    from ..graphtypes import Uniform
     from ..resolve import resolve_file
     folder, base = _os.path.split(value)
     where = resolve_file(folder or ".", em.graph.doc_path)

@@ -10,9 +10,9 @@ A document written against MaterialX's nodedefs alone (e.g. MaterialX's own Exam
 keeps MaterialX's nodegraphs, as its author saw them in MaterialX; pass the option to choose either way.
 The rules only touch USD's preview nodes, so other documents never change.
 
-With the rules on, graph building resolves these categories to our own nodedefs in
-glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES), and accepts the seed's
-`result` output name for the `out` of USD nodes (UsdPrimvarReader, UsdTransform2d):
+With the rules on (SeedRules, handed to graph building by pipeline.py), graph building resolves these
+categories to our own nodedefs in glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES),
+and accepts the seed's `result` output name for the `out` of USD nodes (UsdPrimvarReader, UsdTransform2d):
 - UsdUVTexture: `sourceColorSpace` raw / sRGB / auto (auto: a linear claim in the file's metadata
   means raw; otherwise sRGB when the file is 8-bit with 3 or 4 channels, else raw; OpenImageIO calls
   every PNG sRGB whether or not it says so, so only a linear claim counts as metadata); wrapS / wrapT
@@ -108,6 +108,26 @@ def seed_nodedef(node, library):
 def accepts_result_output(category):
     """The seed names the single output of its primvar and transform nodes `result`."""
     return category.startswith("Usd")
+
+
+class SeedRules:
+    """A target's graph.BuildRules (`base`) with the seed's rules on top: USD's preview nodes resolve to our
+    seed-rule nodedefs, and a connection may name the single output of a USD node `result`. Handed to graph
+    building by pipeline.py where the rules are on."""
+
+    def __init__(self, base):
+        self.base = base
+
+    def nodedef_for(self, node, library):
+        return seed_nodedef(node, library) or self.base.nodedef_for(node, library)
+
+    def output_name(self, category, name, outputs):
+        if name == "result" and "out" in outputs and accepts_result_output(category):
+            return "out"
+        return self.base.output_name(category, name, outputs)
+
+    def implements(self, nodedef, library):
+        return self.base.implements(nodedef, library)
 
 
 # ---------------------------------------------------------------- UsdUVTexture
@@ -231,12 +251,11 @@ def primvar_reader(node, em):
     """UsdPrimvarReader_float/float2/float3/float4/int: the primvar's vertex attribute where the renderer binds
     one (flag uniform 1), else the renderer's texture coordinates (float2) or the fallback (the others). In the
     vertex stage (displacement) there is no flag: the texture coordinates or the fallback."""
-    from ..emit import VertexEmitter
-    from ..graph import Uniform
+    from ..graphtypes import Uniform
     out_type = node.outputs["out"]
     otherwise = em.stream("texcoord_0") if out_type == "vector2" else em.input_expr(node, "fallback")
     varname = node.static.get("varname") or ""
-    if not varname or isinstance(em, VertexEmitter):
+    if not varname or em.stage == "vertex":
         return {"out": otherwise}
     attribute = primvar_attribute(varname)
     taken = em.streams.get(attribute[len("i_"):])
