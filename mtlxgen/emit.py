@@ -10,11 +10,12 @@ import hashlib
 import json
 import os
 import re
-from dataclasses import dataclass, field
+from contextlib import contextmanager
+from dataclasses import dataclass, field, replace
 
 from . import glsldeps, interface, mxtypes, nodes, streams, targets
 from .diagnostics import MtlxError
-from .graphtypes import glsl_identifier, unique_identifier
+from .graphtypes import Uniform, glsl_identifier, unique_identifier
 from .library import glsl_lib_root
 
 GLSL_VERSION = targets.TARGETS["glsl"].version
@@ -162,7 +163,9 @@ class Emitter:
     def __init__(self, graph, environment="fis", target="glsl"):
         if environment not in ENVIRONMENT_METHODS:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
-        self.graph = graph
+        # the emitter's own view of the graph: the public uniforms are its own table, which emission may
+        # extend (UDIM tiles, primvar flags) or thin (a sampler nothing reads); the graph itself never changes
+        self.graph = replace(graph, uniforms=dict(graph.uniforms))
         self.environment = environment
         self.target = targets.get(target)
         self.files = []               # glsl_lib files in emission order
@@ -263,6 +266,32 @@ class Emitter:
 
     def fresh(self, stem):
         return unique_identifier(stem, self.names)
+
+    def uniform(self, name):
+        """The public uniform `name` of the shader being emitted, or None."""
+        return self.graph.uniforms.get(name)
+
+    def add_uniform(self, stem, mx_type, value, loc, colorspace=None):
+        """A public uniform the emission itself adds (a UDIM tile's sampler, a primvar reader's flag), named
+        from `stem`; returns its name."""
+        name = self.fresh(stem)
+        self.graph.uniforms[name] = Uniform(name, mx_type, value, loc, colorspace)
+        return name
+
+    def drop_unread_uniform(self, name, reader):
+        """Leave public uniform `name` undeclared where no node but `reader` reads it (a <UDIM> pattern, which
+        is no file; a texture the node's choices do not read)."""
+        if not any(s.uniform == name for n in self.graph.nodes if n is not reader for s in n.inputs.values()):
+            self.graph.uniforms.pop(name, None)
+
+    @contextmanager
+    def indented(self):
+        """Lines written inside are one level deeper (the statement of an `if` without braces)."""
+        self.indent += 1
+        try:
+            yield
+        finally:
+            self.indent -= 1
 
     # ---------- templates ----------
     def render(self, template, node, out_type):
@@ -479,10 +508,10 @@ class Emitter:
         exprs = {}
         for oname, otype in node.outputs.items():
             var = self.fresh("%s_%s" % (node.id, oname))
-            self.body.append("    %s %s;" % (self.glsl_type(otype), var))
+            self.line("%s %s;" % (self.glsl_type(otype), var))
             args.append(var)
             exprs[oname] = var
-        self.body.append("    %s(%s);" % (function, ", ".join(args)))
+        self.line("%s(%s);" % (function, ", ".join(args)))
         return exprs
 
     # ---------- stages ----------
@@ -839,6 +868,7 @@ class VertexEmitter(Emitter):
 
     def __init__(self, graph, target="glsl"):
         super().__init__(graph, target=target)
+        self.graph = graph            # the fragment emitter's own view (emit() hands it): one uniform table
         self.attributes = {}
         self.result = None
 

@@ -68,14 +68,13 @@ def stride_material(node, em):
     ramp_src = node.inputs["cel_ramp_texture"]
     sampler = ramp_src.uniform
     if cel_ramp == "texture":
-        if sampler is None or not str(em.graph.uniforms[sampler].value or ""):
+        if sampler is None or not str(em.uniform(sampler).value or ""):
             raise MtlxError((ramp_src.loc or node.loc, "node '%s' (%s): cel_ramp 'texture' needs a cel_ramp_texture file"
                              % (node.id, node.nodedef.name)))
         em.textures[sampler] = {"uaddressmode": "clamp", "vaddressmode": "clamp", "filtertype": "linear",
                                 "default": None}
-    elif sampler and not any(s.uniform == sampler for n in em.graph.nodes if n is not node
-                             for s in n.inputs.values()):
-        em.graph.uniforms.pop(sampler, None)      # no ramp texture read: no sampler to bind
+    elif sampler:
+        em.drop_unread_uniform(sampler, node)      # no ramp texture read: no sampler to bind
 
     for f in LIGHTING_FILES + FILES:
         em.require(f)
@@ -135,7 +134,8 @@ def stride_material(node, em):
             % ndf)
     em.line("mg_L = reflect(-mg_V, mg_H);")
     em.line("if (dot(mg_N, mg_L) <= 0.0)")
-    em.line("    continue;")
+    with em.indented():
+        em.line("continue;")
     _specular_terms(em, fresnel, vis, ndf)
     em.line("// density of mg_L: D NH / (4 LH); the estimate F V D/4 NL / pdf = F V NL LH / NH")
     em.line("float mg_pdf = mg_D * mg_NH / (4.0 * max(mg_LH, 1.0e-4));")

@@ -187,7 +187,7 @@ def uv_texture(node, em):
     sampler, value, _ = _texture_file(node, em)
     tiles = _udim_tiles(node, em, sampler, value, None) if _TILE_TOKENS.search(value) else None
     if tiles:
-        info = file_info(str(em.graph.uniforms[tiles[min(tiles)]].value))   # the first tile speaks for all
+        info = file_info(str(em.uniform(tiles[min(tiles)]).value))   # the first tile speaks for all
     else:
         info = file_info(resolve_file(value, em.graph.doc_path)) if tiles is None else None
     wrap_s, wrap_t = _wrap(node, em, "wrapS", info), _wrap(node, em, "wrapT", info)
@@ -220,8 +220,7 @@ def uv_texture(node, em):
                 em.textures[tile] = dict(sampling)
                 expr = "(%s == ivec2(%d, %d) ? mg_usd_uvtexture(%s, %s - vec2(%d.0, %d.0), %d, %d, %d, %s, %s, %s) : %s)" % (
                     (cell, cu, cv, tile, st, cu, cv) + args + (expr,))
-            if not any(s.uniform == sampler for n in em.graph.nodes if n is not node for s in n.inputs.values()):
-                em.graph.uniforms.pop(sampler, None)     # the <UDIM> pattern itself is no file
+            em.drop_unread_uniform(sampler, node)     # the <UDIM> pattern itself is no file
         else:
             em.textures[sampler] = sampling
             expr = "mg_usd_uvtexture(%s, %s, %d, %d, %d, %s, %s, %s)" % ((sampler, em.input_expr(node, "st")) + args)
@@ -251,7 +250,6 @@ def primvar_reader(node, em):
     """UsdPrimvarReader_float/float2/float3/float4/int: the primvar's vertex attribute where the renderer binds
     one (flag uniform 1), else the renderer's texture coordinates (float2) or the fallback (the others). In the
     vertex stage (displacement) there is no flag: the texture coordinates or the fallback."""
-    from ..graphtypes import Uniform
     out_type = node.outputs["out"]
     otherwise = em.stream("texcoord_0") if out_type == "vector2" else em.input_expr(node, "fallback")
     varname = node.static.get("varname") or ""
@@ -262,8 +260,7 @@ def primvar_reader(node, em):
     if taken is not None and taken.type != em.glsl_type(out_type):     # the same primvar read as another type
         attribute = "%s_%s" % (attribute, out_type)
     value = em.stream(attribute[len("i_"):], out_type)
-    flag = em.fresh(node.id + "_primvar")
-    em.graph.uniforms[flag] = Uniform(name=flag, type="integer", value=0, loc=node.loc)
+    flag = em.add_uniform(node.id + "_primvar", "integer", 0, node.loc)
     em.primvars.append({"varname": varname, "attribute": attribute, "type": em.glsl_type(out_type),
                         "uniform": flag})
     return {"out": "(%s != 0 ? %s : %s)" % (flag, value, otherwise)}
