@@ -514,3 +514,11 @@ def load(path, search_paths=(), source="document"):
     """Read and build a document from a .mtlx file."""
     root = read_file(path, search_paths)
     return build(root, path, source)
+
+
+def load_upgraded(path, library_dirs=()):
+    """A .mtlx file as the 1.39 document it stands for: read (includes found in the search paths and
+    library_dirs) and upgraded (upgrade.py)."""
+    from .resolve import search_paths
+    from .upgrade import upgrade
+    return upgrade(load(path, search_paths(library_dirs)))

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, replace
 from . import closureplan, glsldeps, interface, mxtypes, nodes, streams, targets
 from . import template as template_expander
 from .diagnostics import MtlxError
-from .graphtypes import Uniform, glsl_identifier, unique_identifier
+from .graphtypes import Uniform, unique_identifier
 from .library import glsl_lib_root
 from .stagewriter import StageWriter, comment_text  # noqa: F401 (emit.comment_text for callers)
 from .template import CLOSURE_TYPES

@@ -3,7 +3,6 @@ import os
 
 from . import document, emit, glslcheck, graph, is_usd, library, nodes, targets
 from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
-from .resolve import search_paths
 from .xmlreader import gc_paused
 
 
@@ -15,9 +14,7 @@ def load_document(path, library_dirs=(), usd_options=None):
     if is_usd(path):
         from . import usdstage
         return usdstage.load(path, library_dirs, usd_options)
-    doc = document.load(path, search_paths(library_dirs))
-    from .upgrade import upgrade
-    return upgrade(doc)
+    return document.load_upgraded(path, library_dirs)
 
 
 def graph_rules(usd_seed_rules=False):

@@ -4,7 +4,7 @@ import os
 
 import numpy as np
 
-from mtlxgen import compare, document, graph, images, pipeline
+from mtlxgen import compare, document, images, pipeline
 
 FAILURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_failures")
 
