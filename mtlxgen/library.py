@@ -269,6 +269,6 @@ def load_library(extra_dirs=(), use_cache=True):
         lib = parse_library(files)
     else:
         from . import library_cache
-        lib = library_cache.load(files, parse_library)
+        lib = library_cache.load(files, parse_library, Library)
     _MEMO[key] = lib
     return lib

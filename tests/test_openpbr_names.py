@@ -1,5 +1,5 @@
 """open_pbr_surface documents written against the 2023 draft input names get one clear line naming the
-released input (mtlxgen/nodes/renamed_inputs.py), through the CLI."""
+released input (mtlxgen/renamed_inputs.py), through the CLI."""
 import os
 import subprocess
 import sys
