@@ -12,11 +12,12 @@ stagewriter.py writes main's lines at their depth, template.py expands an implem
 template, closureplan.py says when each closure node is needed. Handlers (nodes/) take the graph and
 return code: nothing they do changes the graph (the emitter's uniform table is its own).
 """
+import copy
 import hashlib
 import json
 import os
 import re
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from . import closureplan, glsldeps, interface, mxtypes, nodes, streams, targets
 from . import template as template_expander
@@ -166,7 +167,8 @@ class Emitter:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
         # the emitter's own view of the graph: the public uniforms are its own table, which emission may
         # extend (UDIM tiles, primvar flags) or thin (a sampler nothing reads); the graph itself never changes
-        self.graph = replace(graph, uniforms=dict(graph.uniforms))
+        self.graph = copy.copy(graph)       # (a shallow copy keeps what fold.py marks on a graph: static_guards)
+        self.graph.uniforms = dict(graph.uniforms)
         self.environment = environment
         self.target = targets.get(target)
         self.files = []               # glsl_lib files in emission order

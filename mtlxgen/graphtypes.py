@@ -64,7 +64,6 @@ class Graph:
     library: object = None
     colorspace: str = None            # the document's working colour space (None: files are not converted)
     warnings: list = field(default_factory=list)   # (Loc, message): slips MaterialX reads on, read as it reads them
-    static_guards: bool = False       # fold.py's graphs: closure guards on literals are decided at emission
 
 
 _GLSL_RESERVED = set("""attribute const uniform varying layout centroid flat smooth noperspective patch sample
