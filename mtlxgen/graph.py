@@ -42,7 +42,7 @@ class _Scope:
 class BuildRules:
     """What the target tells graph building, handed in by the caller (pipeline.py), as MaterialX hands its
     generator to the graph through a context. These are MaterialX's rules alone: a target with no
-    implementations of its own. The GLSL target's are nodes.RULES; USD's seed rules nodes/usd.py's SEED_RULES."""
+    implementations of its own. The GLSL target's are nodes.RULES; nodes/usd.SeedRules puts USD's seed rules on top."""
 
     def nodedef_for(self, node, library):
         """The nodedef a document node resolves to before MaterialX's matching, or None: match as MaterialX."""
