@@ -6,7 +6,11 @@ The pipeline, one module a stage, plain data between them:
     document   element tree       -> Document of typed dataclasses    (values parsed, prefixes applied)
     library    data libraries     -> Library: nodedefs indexed by category and signature
     graph      Document + Library -> Graph: resolved, type-checked, flattened, ordered nodes
+                                     (graphtypes: the Graph's data and naming rules; the target's
+                                     graph.BuildRules handed in by pipeline: nodes.RULES, nodes/usd.SeedRules)
     emit       Graph              -> Shader: vertex and fragment GLSL plus interface manifest
+                                     (closureplan: when closures are needed; template: inline templates;
+                                     stagewriter: main's lines; nodes/: the node table and pure handlers)
     render     Shader             -> linear RGBA pixels (moderngl, headless)
 
     view       a document, live   -> a window redrawn as the files change (render's drawing path, hot reload,

@@ -317,7 +317,7 @@ def cmd_info(args):
     from . import pipeline
     options = _usd_options(args)
     if options is not None:
-        from .usdstage import print_info
+        from .usdinfo import print_info
         return print_info(args.file, args.library, args.usd_seed_rules, options)
     warnings = Warnings()
     try:

@@ -98,7 +98,7 @@ def public_inputs(session, element):
     from .graph import GraphBuilder, glsl_identifier
     g = session.graph(element)
     doc = session.doc
-    builder = GraphBuilder(doc, session.library, usd_seed_rules=session.usd_seed_rules)
+    builder = GraphBuilder(doc, session.library, session.rules)
     owners = []         # (stem, node name, tag, node loc, {input: authored port}, {input: declared port})
     for node in list(doc.nodes.values()) + [n for ng in doc.nodegraphs.values() for n in ng.nodes.values()]:
         try:

@@ -379,7 +379,7 @@ def _struct_types(root, problems, warnings):
     """{name: StructType} of the document's <typedef>s with <member>s (those without members declare
     built-in types, as stdlib's do). Each must be a GLSL struct: named by a GLSL identifier, members of
     value types or other structs of the document, uniquely named, none containing itself."""
-    from .graph import glsl_identifier
+    from .graphtypes import glsl_identifier
     structs, locs = {}, {}
     for el in root.children:
         members = [m for m in el.children if m.tag == "member"] if el.tag == "typedef" else []
@@ -514,3 +514,11 @@ def load(path, search_paths=(), source="document"):
     """Read and build a document from a .mtlx file."""
     root = read_file(path, search_paths)
     return build(root, path, source)
+
+
+def load_upgraded(path, library_dirs=()):
+    """A .mtlx file as the 1.39 document it stands for: read (includes found in the search paths and
+    library_dirs) and upgraded (upgrade.py)."""
+    from .resolve import search_paths
+    from .upgrade import upgrade
+    return upgrade(load(path, search_paths(library_dirs)))

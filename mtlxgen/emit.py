@@ -5,20 +5,29 @@ once, dependencies first), public uniforms with initializers, varyings, then `ma
 statement per node output in dependency order. Variable names come from the graph's node ids, so the
 same document always gives byte-identical shaders. The vertex stage passes exactly the streams the
 fragment stage reads.
+
+The Emitter emits nodes and offers the services templates and handlers use (expressions of inputs,
+streams, library files, uniforms, closures in a context); the parts it consumes are modules of their own:
+stagewriter.py writes main's lines at their depth, template.py expands an implementation's inline
+template, closureplan.py says when each closure node is needed. Handlers (nodes/) take the graph and
+return code: nothing they do changes the graph (the emitter's uniform table is its own).
 """
+import copy
 import hashlib
 import json
 import os
 import re
 from dataclasses import dataclass, field
 
-from . import glsldeps, interface, mxtypes, nodes, streams, targets
+from . import closureplan, glsldeps, interface, mxtypes, nodes, streams, targets
+from . import template as template_expander
 from .diagnostics import MtlxError
-from .graph import glsl_identifier, unique_identifier
+from .graphtypes import Uniform, unique_identifier
 from .library import glsl_lib_root
+from .stagewriter import StageWriter, comment_text  # noqa: F401 (emit.comment_text for callers)
+from .template import CLOSURE_TYPES
 
 GLSL_VERSION = targets.TARGETS["glsl"].version
-CLOSURE_TYPES = ("BSDF", "EDF", "VDF")
 
 
 @dataclass
@@ -83,12 +92,6 @@ def unique_stems(shaders):
             s.stem = _hashed(file_stem(s.element), s.element, "#%d" % n if n > 1 else "")
         seen.add(s.stem.casefold())
     return shaders
-
-
-def comment_text(text):
-    """Document text (names, file names) made safe for a `//` comment: no line breaks or other control
-    characters, no trailing backslash (a line continuation), nothing outside ASCII."""
-    return "".join(c if " " <= c <= "~" and c != "\\" else "?" for c in text).replace("*/", "*?")
 
 
 # ---------------------------------------------------------------- glsl_lib files
@@ -157,10 +160,15 @@ _ENVIRONMENT_DEFINES = {"fis": [], "prefiltered": ["MG_ENV_PREFILTERED", "MG_REF
 
 
 class Emitter:
+    stage = "fragment"                # the stage its code goes to (VertexEmitter: "vertex")
+
     def __init__(self, graph, environment="fis", target="glsl"):
         if environment not in ENVIRONMENT_METHODS:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
-        self.graph = graph
+        # the emitter's own view of the graph: the public uniforms are its own table, which emission may
+        # extend (UDIM tiles, primvar flags) or thin (a sampler nothing reads); the graph itself never changes
+        self.graph = copy.copy(graph)       # (a shallow copy keeps what fold.py marks on a graph: static_guards)
+        self.graph.uniforms = dict(graph.uniforms)
         self.environment = environment
         self.target = targets.get(target)
         self.files = []               # glsl_lib files in emission order
@@ -168,7 +176,8 @@ class Emitter:
         self.streams = {}             # name -> Stream, in first-use order
         self.app_uniforms = set()
         self.vars = {}                # (node id, output) -> GLSL expression
-        self.body = []
+        self.writer = StageWriter()   # main's statements
+        self.body = self.writer.lines
         self.names = set(graph.uniforms) | set(graph.structs)   # a variable must not hide a struct type
         self.textures = {}            # sampler uniform -> extra manifest fields
         self.primvars = []            # manifest "primvars": readers of named geometry primvars (nodes/usd.py)
@@ -177,8 +186,9 @@ class Emitter:
         self.context = None           # closure context being emitted ("reflection", "indirect", ...)
         self.block = 0                # serial of the current closure block (closure variables live in it)
         self.closure_vars = {}        # (block, node id, output) -> variable
+        self.closure_plan = closureplan.ClosurePlan(graph)   # when each closure node is needed
         self.conditions = {}          # closure node id -> GLSL condition under which it is needed (None: always)
-        self.indent = 1
+        self._contexts = []           # contexts of the enclosing blocks
         self.current = None           # the node being emitted (errors of the streams it asks for name it)
         self.document_code = []       # [((name, Loc) of a document's <implementation>, {GLSL lines it made})]
 
@@ -262,82 +272,53 @@ class Emitter:
     def fresh(self, stem):
         return unique_identifier(stem, self.names)
 
-    # ---------- templates ----------
-    def render(self, template, node, out_type):
-        out, i = [], 0
-        while True:
-            j = template.find("{{", i)
-            if j < 0:
-                out.append(template[i:])
-                break
-            k = template.find("}}", j)
-            if k < 0:
-                self.fail(node, "unterminated '{{' in implementation template")
-            out.append(template[i:j])
-            out.append(self.field(template[j + 2:k].strip(), node, out_type))
-            i = k + 2
-        return "".join(out)
+    def uniform(self, name):
+        """The public uniform `name` of the shader being emitted, or None."""
+        return self.graph.uniforms.get(name)
 
-    def field(self, f, node, out_type):
-        if f.startswith("="):
-            value = self.static(node, f[1:])
-            t = node.inputs[f[1:]].type
-            if t in ("string", "filename", "geomname"):
-                return glsl_identifier(str(value))
-            try:
-                return mxtypes.glsl_literal(t, value, self.graph.structs)
-            except mxtypes.ValueError_ as e:
-                self.fail(node, "input '%s': %s" % (f[1:], e))
-        if f.startswith("@"):
-            return self.stream(f[1:], node=node)
-        if f == "$type":
-            return self.glsl_type(out_type)
-        if f.startswith("$type:"):
-            if f[6:] not in node.inputs:
-                self.fail(node, "implementation template names '%s', which is not an input" % f[6:])
-            return self.glsl_type(node.inputs[f[6:]].type)
-        if f in node.inputs:
-            src = node.inputs[f]
-            if src.type in ("string", "geomname") and not src.linked:
-                self.fail(node, "string input '%s' cannot be used as a GLSL value" % f)
-            if src.type in CLOSURE_TYPES and src.node in self.closure_nodes:
-                return self.closure(src, self.context or "indirect")
-            if f == "normal" and src.type == "vector3" and self.context in self.FACING_CONTEXTS \
-                    and "BSDF" in node.outputs.values():
-                # a BSDF shades with its normal turned towards the viewer: a normal-mapped or authored
-                # normal facing away would light the surface from behind (as MaterialX's BSDFs do)
-                self.require("pbrlib/forward_facing.glsl")
-                return "mg_forward_facing(%s, mg_V)" % self.expr(src)
-            return self.expr(src)
-        self.fail(node, "implementation template names '%s', which is not an input" % f)
+    def add_uniform(self, stem, mx_type, value, loc, colorspace=None):
+        """A public uniform the emission itself adds (a UDIM tile's sampler, a primvar reader's flag), named
+        from `stem`; returns its name."""
+        name = self.fresh(stem)
+        self.graph.uniforms[name] = Uniform(name, mx_type, value, loc, colorspace)
+        return name
 
-    # ---------- nodes ----------
-    # ---------- closures ----------
-    FACING_CONTEXTS = ("reflection", "indirect", "transmission")
+    def drop_unread_uniform(self, name, reader):
+        """Leave public uniform `name` undeclared where no node but `reader` reads it (a <UDIM> pattern, which
+        is no file; a texture the node's choices do not read)."""
+        if not any(s.uniform == name for n in self.graph.nodes if n is not reader for s in n.inputs.values()):
+            self.graph.uniforms.pop(name, None)
 
+    # ---------- the stage writer, closure scopes ----------
     def line(self, text):
-        """Append a statement to main at the current block depth."""
-        self.body.append("    " * self.indent + text)
+        """Append a statement to main at the current depth."""
+        self.writer.line(text)
+
+    def indented(self):
+        """Lines written inside are one level deeper (the statement of an `if` without braces)."""
+        return self.writer.indented()
 
     def open_block(self, context, comment=None):
-        if comment:
-            self.line("// " + comment_text(comment))
-        self.line("{")
-        self.indent += 1
+        """A braced scope in which closures are evaluated in `context` (None: the enclosing context's)."""
+        self.writer.open_scope(comment)
         self.block += 1
-        self._saved = getattr(self, "_saved", []) + [self.context]
+        self._contexts.append(self.context)
         self.context = context
 
     def close_block(self):
-        self.indent -= 1
-        self.line("}")
-        self.context = self._saved.pop()
+        self.writer.close_scope()
+        self.context = self._contexts.pop()
 
+    # ---------- templates (template.py) ----------
+    def render(self, template, node, out_type):
+        return template_expander.render(self, template, node, out_type)
+
+    # ---------- closures ----------
     def closure(self, src, context):
         """A closure Source evaluated in `context` inside the current block: its upstream closure nodes
         are emitted first (each once per block); returns the GLSL expression of its value.
 
-        Each closure node is evaluated only where it can matter (see plan_closures): a lobe whose mix
+        Each closure node is evaluated only where it can matter (closureplan.py): a lobe whose mix
         factor or weight is zero costs nothing, its value being the empty closure."""
         self.uses_closures = True
         if src.node is None or src.node not in self.closure_nodes:
@@ -346,7 +327,7 @@ class Emitter:
         if key in self.closure_vars:
             return self.closure_vars[key]
         if src.node not in self.conditions:
-            self.plan_closures(src)
+            self.take_plan(src.node)
         node = self.closure_nodes[src.node]
         impl = nodes.lookup(node.nodedef, self.graph.library)
         saved, self.context = self.context, context
@@ -359,7 +340,8 @@ class Emitter:
                 if template and src.type == "BSDF" and weight is not None and weight.type == "float":
                     # a BSDF of (near) zero weight is the empty closure whatever its other inputs are
                     # (as in MaterialX: e.g. gltf_pbr's sheen colour is 0/0 when sheen is off)
-                    cond = _conjoin(cond, "%s >= 1.0e-6" % self.input_expr(node, "weight"))
+                    weighed = "%s >= 1.0e-6" % self.input_expr(node, "weight")
+                    cond = closureplan.glsl(closureplan.conjoin(cond, weighed), None)     # "cond && weighed"
                 if not template:
                     cond = None
             elif impl.outputs:
@@ -384,41 +366,19 @@ class Emitter:
         self.closure_vars[key] = var
         return var
 
-    # edges that carry a condition: (category, input) -> template of when the input's closure matters
-    # (exactly, for every factor: an EDF mix extrapolates outside [0, 1]; a BSDF/VDF mix holds its factor there,
-    # where a side it weighs 0 is computed to no effect)
-    EDGE_CONDITIONS = {("mix", "fg"): "{mix} != 0.0", ("mix", "bg"): "{mix} != 1.0"}
+    def take_plan(self, root):
+        """The closure plan's conditions for the closure nodes upstream of `root`, written as GLSL; a node
+        planned before keeps its first condition."""
+        for node_id, cond in self.closure_plan.conditions(root).items():
+            text = closureplan.glsl(cond, self.condition_values)
+            self.conditions.setdefault(node_id, text)
 
-    def plan_closures(self, root):
-        """When each closure node upstream of `root` is needed: None (always) or a GLSL condition, the
-        disjunction over its uses of (parent's condition && the edge's condition)."""
-        order, seen = [], set()
+    def condition_values(self, node_id):
+        """{input: GLSL expression} of the values a closure node's edge conditions read."""
+        return {k: self.expr(v) for k, v in self.closure_plan.nodes[node_id].inputs.items()
+                if not mxtypes.is_closure(v.type) and v.type != "string"}
 
-        def visit(node_id):
-            if node_id in seen:
-                return
-            seen.add(node_id)
-            for s in self.closure_nodes[node_id].inputs.values():
-                if s.node in self.closure_nodes:
-                    visit(s.node)
-            order.append(node_id)
-
-        visit(root.node)
-        conds = {root.node: None}
-        for node_id in reversed(order):            # parents before children
-            node = self.closure_nodes[node_id]
-            for name, s in node.inputs.items():
-                if s.node not in self.closure_nodes:
-                    continue
-                edge = self.EDGE_CONDITIONS.get((node.category, name))
-                if edge is not None:
-                    edge = edge.format(**{k: self.expr(v) for k, v in node.inputs.items()
-                                          if not mxtypes.is_closure(v.type) and v.type != "string"})
-                use = _conjoin(conds.get(node_id), edge)
-                conds[s.node] = use if s.node not in conds else _disjoin(conds[s.node], use)
-        for node_id, c in conds.items():
-            self.conditions.setdefault(node_id, c)
-
+    # ---------- nodes ----------
     def note_document_code(self, impl, lines):
         """Remember the lines a document's own GLSL went into: a compile error in one of them is reported
         at that <implementation> (glslcheck.py)."""
@@ -436,7 +396,7 @@ class Emitter:
         if impl is None:
             self.fail(node, "no GLSL implementation for nodedef %s" % node.nodedef.name)
         first_line, first_file = len(self.body), len(self.external)
-        if node.outputs and all(t in CLOSURE_TYPES for t in node.outputs.values()):
+        if closureplan.is_closure_node(node):
             for f in impl.files:
                 self.require(f)
             self.closure_nodes[node.id] = node     # evaluated per context by the shader node using it
@@ -477,10 +437,10 @@ class Emitter:
         exprs = {}
         for oname, otype in node.outputs.items():
             var = self.fresh("%s_%s" % (node.id, oname))
-            self.body.append("    %s %s;" % (self.glsl_type(otype), var))
+            self.line("%s %s;" % (self.glsl_type(otype), var))
             args.append(var)
             exprs[oname] = var
-        self.body.append("    %s(%s);" % (function, ", ".join(args)))
+        self.line("%s(%s);" % (function, ", ".join(args)))
         return exprs
 
     # ---------- stages ----------
@@ -833,9 +793,11 @@ class Declarations:
 
 class VertexEmitter(Emitter):
     """Emits nodes into the vertex stage (for displacement): streams read the attributes directly."""
+    stage = "vertex"
 
     def __init__(self, graph, target="glsl"):
         super().__init__(graph, target=target)
+        self.graph = graph            # the fragment emitter's own view (emit() hands it): one uniform table
         self.attributes = {}
         self.result = None
 
@@ -870,18 +832,6 @@ def struct_order(names, structs):
                     done.add(name)
                     order.append(name)
     return order
-
-
-def _conjoin(a, b):
-    if a is None or b is None:
-        return a if b is None else b
-    return "%s && %s" % (a, b)
-
-
-def _disjoin(a, b):
-    if a is None or b is None:
-        return None
-    return "(%s) || (%s)" % (a, b)
 
 
 def _is_plain_name(e):

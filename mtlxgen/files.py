@@ -89,9 +89,33 @@ def read_bounded(path, loc, what, limit=None):
     return b"".join(chunks)
 
 
+def materialx_library_root():
+    """MaterialX/libraries of the installed wheel, or None."""
+    try:
+        import importlib.util
+        spec = importlib.util.find_spec("MaterialX")
+    except (ImportError, ValueError):
+        return None
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    for loc in spec.submodule_search_locations:
+        cand = os.path.join(loc, "libraries")
+        if os.path.isdir(cand):
+            return cand
+    return None
+
+
+def glsl_lib_root():
+    """Our GLSL library: glsl_lib/ beside the package in a checkout, or installed as package data."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for cand in (os.path.join(os.path.dirname(here), "glsl_lib"), os.path.join(here, "glsl_lib")):
+        if os.path.isdir(cand):
+            return cand
+    raise RuntimeError("glsl_lib not found next to the mtlxgen package")
+
+
 def library_roots():
     """The folders of the data libraries (the materialx wheel's and ours)."""
-    from .library import glsl_lib_root, materialx_library_root     # library imports this module's users
     roots = [materialx_library_root()]
     try:
         roots.append(glsl_lib_root())

@@ -28,7 +28,7 @@ def _worker():
 def _thread_context(tried):
     if not tried:
         try:
-            from .render import create_context
+            from .glcontext import create_context
             tried.append(create_context())
         except Exception:       # no Mesa / no moderngl: nothing to compile with
             tried.append(None)

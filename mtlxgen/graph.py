@@ -7,104 +7,14 @@ defaultgeomprops turned into geometric nodes, defaults filled in. What remains i
 nodes in dependency order, each with a GLSL implementation in the node table, plus the public
 uniforms of the material. Cycles, unknown nodes and type mismatches are reported with file:line.
 """
-import hashlib
-import re
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
-from . import mxtypes
+from . import colorspaces, mxtypes
 from .diagnostics import Loc, MtlxError, Problems, Warnings
-
-
-@dataclass
-class Source:
-    """Where an input's value comes from: a constant, a public uniform, or another node's output."""
-    type: str
-    value: object = None              # constant value (also the uniform's initial value)
-    uniform: str = None               # public uniform name, when the value is exposed
-    node: str = None                  # producing node id, when linked
-    output: str = None                # producing node's output name
-    colorspace: str = None            # filename inputs: the file's colour space
-    unit: str = None
-    unittype: str = None
-    loc: Loc = None
-
-    @property
-    def linked(self):
-        return self.node is not None
-
-
-@dataclass
-class GNode:
-    id: str                           # unique within the graph; also the stem of its GLSL variables
-    category: str
-    nodedef: object                   # document.NodeDef
-    inputs: dict                      # input name -> Source, in nodedef order
-    outputs: dict                     # output name -> type
-    loc: Loc
-    static: dict = field(default_factory=dict)   # string/enum inputs: name -> value (compile time)
-
-
-@dataclass
-class Uniform:
-    name: str
-    type: str
-    value: object
-    loc: Loc = None
-    colorspace: str = None            # filename uniforms only
-    default: object = None            # image nodes: the colour outside the image
-    marked: bool = False              # the document marks it uniform="true" (the input or its nodedef's): kept
-                                      # a uniform in the reduced interface (reduce.py)
-
-
-@dataclass
-class Graph:
-    element: str                      # name path of the renderable element
-    kind: str                         # "material", "shader" or "output"
-    result: Source                    # the value rendered
-    nodes: list                       # GNode in dependency order, only those the result needs
-    uniforms: dict                    # name -> Uniform (public inputs)
-    structs: dict
-    doc_path: str
-    library: object = None
-    colorspace: str = None            # the document's working colour space (None: files are not converted)
-    warnings: list = field(default_factory=list)   # (Loc, message): slips MaterialX reads on, read as it reads them
-
-
-_GLSL_RESERVED = set("""attribute const uniform varying layout centroid flat smooth noperspective patch sample
-break continue do for while switch case default if else subroutine in out inout float double int void bool true
-false invariant discard return mat2 mat3 mat4 dmat2 dmat3 dmat4 mat2x2 mat2x3 mat2x4 mat3x2 mat3x3 mat3x4 mat4x2
-mat4x3 mat4x4 vec2 vec3 vec4 ivec2 ivec3 ivec4 bvec2 bvec3 bvec4 dvec2 dvec3 dvec4 uint uvec2 uvec3 uvec4 lowp
-mediump highp precision sampler1D sampler2D sampler3D samplerCube struct common partition active asm class union
-enum typedef template this packed goto inline noinline volatile public static extern external interface long
-short half fixed unsigned superp input output filter sizeof cast namespace using main texture sample resource
-BSDF EDF VDF surfaceshader volumeshader displacementshader lightshader material""".split())
-
-
-IDENTIFIER_CHARS = 64     # longer names are cut and end in a hash: not every driver takes 1,000-character names
-
-
-def glsl_identifier(name):
-    s = re.sub(r"[^A-Za-z0-9_]", "_", name)
-    s = re.sub(r"__+", "_", s)
-    if not s or s[0].isdigit():
-        s = "n" + s
-    if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):
-        s = "n_" + s
-    if len(s) > IDENTIFIER_CHARS:
-        digest = hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
-        s = s[:IDENTIFIER_CHARS - 10].rstrip("_") + "_h" + digest
-    return s
-
-
-def unique_identifier(stem, taken):
-    """A GLSL identifier from `stem` not yet in `taken` (a counter appended where needed); adds it."""
-    base = glsl_identifier(stem)
-    name, k = base, 1
-    while name in taken:
-        k += 1
-        name = "%s%d" % (base, k)
-    taken.add(name)
-    return name
+# the graph's data types and naming rules live in a leaf module; named here too, as graph.X, for the callers
+from .graphtypes import (IDENTIFIER_CHARS, GNode, Graph, Source, Uniform,  # noqa: F401
+                         glsl_identifier, unique_identifier)
+from .renamed_inputs import renamed_input_message
 
 
 # Nodes of one scope are instantiated without recursion (GraphBuilder.instantiate); what still recurses
@@ -129,10 +39,30 @@ class _Scope:
         self.loc = loc
 
 
+class BuildRules:
+    """What the target tells graph building, handed in by the caller (pipeline.py), as MaterialX hands its
+    generator to the graph through a context. These are MaterialX's rules alone: a target with no
+    implementations of its own. The GLSL target's are nodes.RULES; nodes/usd.SeedRules puts USD's seed rules on top."""
+
+    def nodedef_for(self, node, library):
+        """The nodedef a document node resolves to before MaterialX's matching, or None: match as MaterialX."""
+        return None
+
+    def output_name(self, category, name, outputs):
+        """The output a connection naming output `name` of a node of `category` (outputs: its output names)
+        reads; `name` itself where the rules rename nothing."""
+        return name
+
+    def implements(self, nodedef, library):
+        """Whether the target implements `nodedef` itself: a nodedef the libraries implement by a nodegraph
+        is then kept as one node, not expanded."""
+        return False
+
+
 class GraphBuilder:
-    def __init__(self, doc, library, usd_seed_rules=False):
+    def __init__(self, doc, library, rules):
         self.doc = doc
-        self.usd_seed_rules = usd_seed_rules     # USD nodes resolve to the seed's rules (nodes/usd.py)
+        self.rules = rules            # the target's BuildRules (nodedefs it implements, USD's seed rules)
         self.lib = library.overlay(doc)
         self.problems = Problems()
         self.nodes = {}               # id -> GNode
@@ -167,11 +97,9 @@ class GraphBuilder:
     # ---------- nodedef resolution ----------
     def nodedef_for(self, node):
         lib = self.lib
-        if self.usd_seed_rules:
-            from .nodes.usd import seed_nodedef
-            nd = seed_nodedef(node, lib)
-            if nd is not None:
-                return nd
+        nd = self.rules.nodedef_for(node, lib)
+        if nd is not None:
+            return nd
         if node.nodedef:
             nd = lib.nodedefs.get(node.nodedef)
             if nd is None:
@@ -198,7 +126,6 @@ class GraphBuilder:
                 matches.append(nd)
         if matches:
             return matches[0]
-        from .nodes.renamed_inputs import renamed_input_message
         renamed = [(i.loc, renamed_input_message(node.category, i.name)) for i in node.inputs.values()
                    if not any(i.name in nd.inputs for nd in candidates)]
         if any(m for _, m in renamed):
@@ -256,9 +183,8 @@ class GraphBuilder:
             outs = self.instantiate(node, scope)
             if port.output:
                 name = port.output
-                if name not in outs and name == "result" and "out" in outs and self.usd_seed_rules:
-                    from .nodes.usd import accepts_result_output
-                    name = "out" if accepts_result_output(node.category) else name
+                if name not in outs:
+                    name = self.rules.output_name(node.category, name, outs)
                 if name not in outs:
                     first = next(iter(outs))
                     self.warn(port.loc, "node '%s' has no output '%s': '%s' reads its first output, '%s', as MaterialX "
@@ -391,16 +317,15 @@ class GraphBuilder:
         (there its inputs are the shader's, unconverted), nor inside a nodedef's implementation (a function
         parameter). A public uniform keeps its authored value and a cmlib node converts it in the shader;
         a constant is converted here."""
-        from .nodes import cmlib
-        if src.linked or not cmlib.is_working_space(self.doc.colorspace) or cmlib.canonical(port.colorspace) is None:
+        if src.linked or not colorspaces.is_working_space(self.doc.colorspace) or colorspaces.canonical(port.colorspace) is None:
             return src
         if port.interfacename and not (scope.public and scope.graph is not None
                                        and scope.graph.name != self.direct_graph):
             return src
         if not src.uniform:
-            return Source(src.type, value=cmlib.convert_value(port.colorspace, src.value), loc=src.loc,
+            return Source(src.type, value=colorspaces.convert_value(port.colorspace, src.value), loc=src.loc,
                           unit=src.unit, unittype=src.unittype)
-        nd = self.lib.nodedefs.get(cmlib.nodedef_name(port.colorspace, src.type))
+        nd = self.lib.nodedefs.get(colorspaces.nodedef_name(port.colorspace, src.type))
         if nd is None:          # a library without cmlib: as MaterialX, which then has no transform
             return src
         ident = self.new_id(stem + "_cm")
@@ -529,7 +454,6 @@ class GraphBuilder:
             self.check_named_nodedef(node, nd)
         for name, port in node.inputs.items():
             if name not in nd.inputs:
-                from .nodes.renamed_inputs import renamed_input_message
                 problem = (renamed_input_message(node.category, name) or
                            "node '%s' (%s) has no input '%s'" % (node.name, nd.name, name))
                 if not named:
@@ -632,8 +556,7 @@ class GraphBuilder:
         return stem + "_"
 
     def _has_leaf_impl(self, nd):
-        from .nodes import has_leaf_implementation
-        return has_leaf_implementation(nd, self.lib)
+        return self.rules.implements(nd, self.lib)
 
     # ---------- elements ----------
     @property
@@ -702,10 +625,10 @@ class GraphBuilder:
         return "shader", src
 
 
-def build_graph(doc, library, element, usd_seed_rules=False, warnings=None):
-    """The Graph of one element. warnings: a list that receives the element's warnings (also where building
-    stops with an MtlxError); they are the Graph's `warnings` too."""
-    builder = GraphBuilder(doc, library, usd_seed_rules)
+def build_graph(doc, library, element, rules, warnings=None):
+    """The Graph of one element under the target's BuildRules `rules`. warnings: a list that receives the
+    element's warnings (also where building stops with an MtlxError); they are the Graph's `warnings` too."""
+    builder = GraphBuilder(doc, library, rules)
     try:
         g = builder.build(element)
         g.warnings = list(builder.warnings.items)

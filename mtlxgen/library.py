@@ -14,33 +14,9 @@ import re
 from dataclasses import dataclass, field
 
 from .diagnostics import MtlxError
+from .files import glsl_lib_root, materialx_library_root  # noqa: F401 (library.X for callers)
 
 LIBRARY_FOLDERS = ("stdlib", "pbrlib", "bxdf", "cmlib", "lights", "nprlib")
-
-
-def materialx_library_root():
-    """MaterialX/libraries of the installed wheel, or None."""
-    try:
-        import importlib.util
-        spec = importlib.util.find_spec("MaterialX")
-    except (ImportError, ValueError):
-        return None
-    if spec is None or not spec.submodule_search_locations:
-        return None
-    for loc in spec.submodule_search_locations:
-        cand = os.path.join(loc, "libraries")
-        if os.path.isdir(cand):
-            return cand
-    return None
-
-
-def glsl_lib_root():
-    """Our GLSL library: glsl_lib/ beside the package in a checkout, or installed as package data."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    for cand in (os.path.join(os.path.dirname(here), "glsl_lib"), os.path.join(here, "glsl_lib")):
-        if os.path.isdir(cand):
-            return cand
-    raise RuntimeError("glsl_lib not found next to the mtlxgen package")
 
 
 # GLSL 4.00's built-in functions (spec chapter 8): a struct of the same name would hide them
@@ -293,6 +269,6 @@ def load_library(extra_dirs=(), use_cache=True):
         lib = parse_library(files)
     else:
         from . import library_cache
-        lib = library_cache.load(files, parse_library)
+        lib = library_cache.load(files, parse_library, Library)
     _MEMO[key] = lib
     return lib

@@ -59,9 +59,9 @@ def cache_path(files):
     return os.path.join(cache_dir(), "library-%s.mxlib" % cache_key(files))
 
 
-def load(files, parse):
-    """The Library of `files`: from its cache file where that is sound, else parse(files), then cached."""
-    from .library import Library
+def load(files, parse, Library):
+    """The Library of `files`: from its cache file where that is sound, else parse(files), then cached.
+    Library: library.Library, the class a cached body is decoded into (handed in: library.py imports this)."""
     try:
         path = cache_path(files)
     except OSError:             # a file vanished between listing and stat: parse (which then says which)

@@ -1,9 +1,8 @@
 """The whole pipeline for one document: read, resolve, build each element's graph, emit GLSL."""
 import os
 
-from . import document, emit, glslcheck, graph, is_usd, library, targets
+from . import document, emit, glslcheck, graph, is_usd, library, nodes, targets
 from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
-from .resolve import search_paths
 from .xmlreader import gc_paused
 
 
@@ -15,9 +14,21 @@ def load_document(path, library_dirs=(), usd_options=None):
     if is_usd(path):
         from . import usdstage
         return usdstage.load(path, library_dirs, usd_options)
-    doc = document.load(path, search_paths(library_dirs))
-    from .upgrade import upgrade
-    return upgrade(doc)
+    return document.load_upgraded(path, library_dirs)
+
+
+def graph_rules(usd_seed_rules=False):
+    """The graph.BuildRules graph building works under: the GLSL target's (nodes.RULES), with USD's seed
+    rules on top where they are on (nodes/usd.py)."""
+    if usd_seed_rules:
+        from .nodes.usd import SeedRules
+        return SeedRules(nodes.RULES)
+    return nodes.RULES
+
+
+def build_graph(doc, lib, element, usd_seed_rules=False, warnings=None):
+    """graph.build_graph under the GLSL target's rules (graph_rules)."""
+    return graph.build_graph(doc, lib, element, graph_rules(usd_seed_rules), warnings)
 
 
 class Session:
@@ -59,6 +70,7 @@ class Session:
             from .nodes.usd import comes_from_usd
             usd_seed_rules = comes_from_usd(self.doc)
         self.usd_seed_rules = usd_seed_rules
+        self.rules = graph_rules(usd_seed_rules)     # what the target tells graph building
         if not self.elements:
             raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
 
@@ -67,7 +79,7 @@ class Session:
             raise MtlxError(self.stage.materials[name].problems)      # what the stage reader could not convert
         found = []
         try:
-            g = graph.build_graph(self.doc, self.library, name, usd_seed_rules=self.usd_seed_rules, warnings=found)
+            g = graph.build_graph(self.doc, self.library, name, self.rules, warnings=found)
         finally:
             self.element_warnings[name] = found
             if not self.strict:             # strict: they are errors, raised below

@@ -13,35 +13,13 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from .glcontext import create_context  # noqa: F401  (render.create_context for callers)
 from .images import read_image, write_image  # noqa: F401  (re-exported for the CLI)
 
 SIZE = 256
 EYE = (0.0, 0.0, 3.0)
 FOV_Y = 45.0
 ENV_SAMPLES = 64
-
-
-def create_context():
-    """A headless OpenGL 4 context: EGL first (Mesa's llvmpipe on CPU machines), then OSMesa, then X11 when
-    a display exists. MTLXGEN_GL_BACKEND=egl|osmesa|x11 picks one."""
-    import moderngl
-    forced = os.environ.get("MTLXGEN_GL_BACKEND", "").strip().lower()
-    backends = [forced] if forced else ["egl", "osmesa"] + (["x11"] if os.environ.get("DISPLAY") else [])
-    errors = []
-    for backend in backends:
-        try:
-            if backend == "osmesa":
-                from .osmesa import create_context as osmesa_context
-                ctx = osmesa_context()
-            else:
-                ctx = moderngl.create_standalone_context(backend=backend if backend != "x11" else None, require=400)
-            if ctx.version_code < 400:
-                raise RuntimeError("OpenGL %d, 4.0 needed" % ctx.version_code)
-            return ctx
-        except Exception as e:  # try the next backend
-            errors.append("%s: %s" % (backend, str(e).strip().splitlines()[-1] if str(e).strip() else type(e).__name__))
-    raise RuntimeError("no headless OpenGL 4 context (%s); install Mesa's EGL (libegl1 libgl1-mesa-dri) or "
-                       "OSMesa (libosmesa6)" % "; ".join(errors))
 
 
 def sphere(n_lon=128, n_lat=64):

@@ -413,7 +413,7 @@ class _StageReader:
         return Loc(self.prim_loc(attr.GetPrim()).file, where=str(attr.GetPath()))
 
     def top_name(self, stem):
-        from .graph import unique_identifier
+        from .graphtypes import unique_identifier
         name = stem if stem not in self.taken else unique_identifier(stem, set(self.taken))
         self.taken.add(name)
         return name
@@ -1222,8 +1222,8 @@ class _StageReader:
     def read_mtlx_reference(self, prim, mtlx_path, target, loc, authored):
         """Materials of a referenced .mtlx document, read by our reader and merged under the names of the
         prim paths MaterialX's file-format plugin would give them."""
+        from .document import load_upgraded
         from .graph import renderable_elements
-        from .pipeline import load_document
         info = self.doc.usd
         base = str(prim.GetPath())
         local = self.local_file(mtlx_path, prim, info.problems) if "[" in mtlx_path else mtlx_path
@@ -1232,7 +1232,7 @@ class _StageReader:
                                   % (authored, mtlx_path)))
             return
         try:
-            sub = load_document(local, self.library_dirs)
+            sub = load_upgraded(local, self.library_dirs)
         except MtlxError as e:
             info.problems.extend(e.problems)
             return
@@ -1368,50 +1368,3 @@ def _packaged_name(inner):
     '..' or separators survive), extension kept."""
     parts = [p for p in re.split(r"[\\/\[\]]+", inner) if p not in ("", ".", "..")]
     return "__".join(parts) or "file"
-
-
-# ---------------------------------------------------------------- info
-
-def print_info(path, library_dirs=(), usd_seed_rules=None, options=None, out=None):
-    """`mtlxgen info SCENE.usd`: each material with its prim, the surface drawn, its shaders and their
-    ids, its graph, and what could not be resolved. Returns the exit status (1 where anything was not)."""
-    import sys
-    from . import pipeline
-    out = out or sys.stdout
-    session = pipeline.Session(path, None, library_dirs, usd_seed_rules, usd_options=options)
-    stage = session.stage
-    opts = stage.options
-    print("%s (USD stage: %d material%s; render context %s%s)"
-          % (path, len(stage.materials), "" if len(stage.materials) == 1 else "s", opts.render_context,
-             "; variants " + ", ".join("%s=%s" % v for v in opts.variants) if opts.variants else ""), file=out)
-    status = 1 if stage.problems else 0
-    for name, m in stage.materials.items():
-        how = ("from %s" % os.path.relpath(m.source) if m.source else
-               "%s surface" % m.context if m.context else "no surface")
-        if len(m.contexts) > 1:
-            how += " (also: %s)" % ", ".join(c for c in m.contexts if c != m.context)
-        print("  %s  <%s>  %s" % (name, m.prim, how), file=out)
-        for prim, sid in m.shaders:
-            print("    %-44s %s" % (prim, sid), file=out)
-        unresolved = list(m.problems)
-        if not m.problems:
-            try:
-                g = session.graph(name)
-                print("    graph: %d nodes, %d uniforms" % (len(g.nodes), len(g.uniforms)), file=out)
-            except MtlxError as e:
-                unresolved += e.problems
-        unresolved += m.notes
-        if unresolved:
-            status = 1
-            print("    unresolved:", file=out)
-            for line in MtlxError(unresolved).lines():
-                print("      " + line, file=out)
-        if m.ignored:
-            print("    ignored:", file=out)
-            for line in MtlxError(m.ignored).lines():
-                print("      " + line, file=out)
-    if stage.problems:
-        print("  stage:", file=out)
-        for line in MtlxError(stage.problems).lines():
-            print("    " + line, file=out)
-    return status

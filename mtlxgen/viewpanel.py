@@ -11,6 +11,7 @@ import numpy as np
 
 from . import docedit
 from .diagnostics import MtlxError
+from .uniformvalues import initial_values, set_uniform
 
 _VS = """#version 400
 uniform mat4 u_projection;
@@ -208,7 +209,6 @@ class Panel:
 
     def set_value(self, item, value):
         """A panel edit: the uniform set on the linked program (a texture's file rebound), kept as an override."""
-        from .view import set_uniform
         v = self.viewer
         loaded = v.loaded.get(v.element)
         if loaded is None:
@@ -245,7 +245,6 @@ class Panel:
 
     def revert(self):
         """Back to the document's values: the linked program's initial values and the manifest's texture files."""
-        from .view import initial_values, set_uniform
         v = self.viewer
         loaded = v.loaded.get(v.element)
         if loaded is None:
@@ -321,8 +320,7 @@ class Panel:
         for line in v.problems:
             imgui.text_colored(imgui.ImVec4(1.0, 0.45, 0.4, 1.0), line)
         if imgui.collapsing_header("keys"):
-            from .view import KEYS
-            for k, what in KEYS:
+            for k, what in v.keys:
                 imgui.text("%-16s %s" % (k, what))
         self._refresh()
         loaded = v.loaded.get(v.element)

@@ -1,7 +1,7 @@
 """Build a one-node document for any nodedef and generate + compile it (used by the coverage test)."""
 import os
 
-from mtlxgen import emit, graph
+from mtlxgen import emit, graph, pipeline
 from mtlxgen.diagnostics import MtlxError
 from mtlxgen.document import Document, Node
 
@@ -17,7 +17,7 @@ def probe_nodedef(nd, library, compile_fn):
     node_type = nd.type if len(nd.outputs) == 1 else "multioutput"
     doc = Document(path=os.path.join(os.getcwd(), "probe.mtlx"))
     doc.nodes["probe"] = Node(category=nd.category, name="probe", type=node_type, loc=loc, nodedef=nd.name)
-    builder = graph.GraphBuilder(doc, library)
+    builder = graph.GraphBuilder(doc, library, pipeline.graph_rules())
     try:
         outs = builder.instantiate(doc.nodes["probe"], builder.doc_scope)
     except MtlxError as e:

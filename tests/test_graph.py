@@ -2,7 +2,7 @@
 import os
 import pytest
 
-from mtlxgen import document, graph
+from mtlxgen import document, graph, pipeline
 from mtlxgen.diagnostics import MtlxError
 from util import build_graph, write_doc
 
@@ -22,7 +22,7 @@ def test_nodes_resolve_to_the_nodedef_matching_output_and_input_types(tmp_path, 
   <output name="o1" type="color3" nodename="a" />
   <output name="o2" type="vector2" nodename="b" />""", "o1", library)
     assert [n.nodedef.name for n in g.nodes] == ["ND_add_color3FA"]
-    g2 = graph.GraphBuilder(document.load(str(tmp_path / "doc.mtlx")), library).build("o2")
+    g2 = graph.GraphBuilder(document.load(str(tmp_path / "doc.mtlx")), library, pipeline.graph_rules()).build("o2")
     assert [n.nodedef.name for n in g2.nodes] == ["ND_add_vector2"]
 
 
@@ -189,8 +189,8 @@ VERSIONED = """
 def test_versions_pick_the_default_unless_a_node_names_one(tmp_path, library):
     path = write_doc(tmp_path, VERSIONED)
     doc = document.load(path)
-    plain = graph.build_graph(doc, library, "o_plain")
-    pinned = graph.build_graph(doc, library, "o_pinned")
+    plain = pipeline.build_graph(doc, library, "o_plain")
+    pinned = pipeline.build_graph(doc, library, "o_pinned")
     assert [n.category for n in plain.nodes] == ["sin"]
     assert plain.uniforms["plain_k"].value == 0.25
     assert [n.category for n in pinned.nodes] == ["cos"]
@@ -200,7 +200,7 @@ def test_versions_pick_the_default_unless_a_node_names_one(tmp_path, library):
 def test_unknown_version_is_an_error(tmp_path, library):
     path = write_doc(tmp_path, VERSIONED.replace('version="2.0" />', 'version="3.0" />'))
     with pytest.raises(MtlxError, match=r"doc\.mtlx:\d+: node 'pinned'"):
-        graph.build_graph(document.load(path), library, "o_pinned")
+        pipeline.build_graph(document.load(path), library, "o_pinned")
 
 
 def test_library_option_adds_definitions(tmp_path):

@@ -12,7 +12,7 @@ import sys
 
 import pytest
 
-from mtlxgen import document, graph, library, library_cache
+from mtlxgen import document, library, library_cache, pipeline
 from mtlxgen.diagnostics import Loc
 from util import write_doc
 
@@ -105,7 +105,7 @@ def test_index_matches_the_scan_for_a_documents_own_versioned_and_ambiguous_node
     assert plain is scan(lib, "plain", None, "float", ports([])) and plain.name == "ND_plain_v2"
     assert check_all(lib, versions=(None, "1.0", "2.0", "3.0")) > 10000
     # and graph building takes the document's own add
-    g = graph.build_graph(doc, library, "o")
+    g = pipeline.build_graph(doc, library, "o")
     assert [n.nodedef.name for n in g.nodes] == ["ND_add_float_mine"]
 
 

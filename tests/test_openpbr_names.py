@@ -1,12 +1,12 @@
 """open_pbr_surface documents written against the 2023 draft input names get one clear line naming the
-released input (mtlxgen/nodes/renamed_inputs.py), through the CLI."""
+released input (mtlxgen/renamed_inputs.py), through the CLI."""
 import os
 import subprocess
 import sys
 
 import pytest
 
-from mtlxgen.nodes.renamed_inputs import OPEN_PBR_DRAFT
+from mtlxgen.renamed_inputs import OPEN_PBR_DRAFT
 from tests.util import write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -18,7 +18,7 @@ DELIBERATE = {}
 
 @pytest.mark.parametrize("name", FILES)
 def test_math_corpus_matches_materialx(name, renderer, reference):
-    from mtlxgen import document, graph
+    from mtlxgen import document, pipeline
     from mtlxgen.diagnostics import MtlxError
     from mtlxgen.library import load_library
     path = os.path.join(DATA_TESTSUITE, "stdlib", name)
@@ -33,7 +33,7 @@ def test_math_corpus_matches_materialx(name, renderer, reference):
         except Exception:
             continue                         # MaterialX cannot generate it either
         try:
-            graph.build_graph(doc, lib, element)
+            pipeline.build_graph(doc, lib, element)
         except MtlxError as e:
             expected = DELIBERATE.get((name, element))
             if not (expected and expected in e.lines()[0]):

@@ -178,7 +178,7 @@ def test_corpus_upgrade_documents_build(library):
         elements = graph.renderable_elements(doc)
         assert elements, name
         for element in elements:
-            builder = graph.GraphBuilder(doc, library)
+            builder = graph.GraphBuilder(doc, library, pipeline.graph_rules())
             kind, result = builder._element_result(element)
             assert result.type in ("material", "surfaceshader"), (name, element)
 

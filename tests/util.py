@@ -4,7 +4,7 @@ import os
 
 import numpy as np
 
-from mtlxgen import compare, document, graph, images, pipeline
+from mtlxgen import compare, document, images, pipeline
 
 FAILURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_failures")
 
@@ -18,7 +18,7 @@ def write_doc(tmp_path, body, name="doc.mtlx", version="1.39"):
 
 def build_graph(tmp_path, body, element, library):
     """The typed Graph of one element of a document written from `body`."""
-    return graph.build_graph(document.load(write_doc(tmp_path, body)), library, element)
+    return pipeline.build_graph(document.load(write_doc(tmp_path, body)), library, element)
 
 
 def generate_one(path, element=None):

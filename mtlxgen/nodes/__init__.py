@@ -24,6 +24,8 @@ import pkgutil
 from dataclasses import dataclass, field
 
 from ..diagnostics import MtlxError
+from ..graph import BuildRules
+from ..graphtypes import glsl_identifier
 
 # every table module in this package (all but handlers), in name order
 _MODULES = [importlib.import_module("%s.%s" % (__name__, m.name)) for m in sorted(
@@ -74,7 +76,6 @@ def lookup(nodedef, library):
                 raise MtlxError((doc_impl.loc, "implementation '%s': %s" % (doc_impl.name, problem)))
             return Impl(outputs={"*": doc_impl.sourcecode}, origin="document", source=(doc_impl.name, doc_impl.loc))
         if doc_impl.file and doc_impl.function:
-            from ..graph import glsl_identifier
             if glsl_identifier(doc_impl.function) != doc_impl.function:     # also refuses GLSL's reserved words
                 raise MtlxError((doc_impl.loc, "implementation '%s': function %r is not a GLSL identifier free "
                                                "for a document's use" % (doc_impl.name, doc_impl.function)))
@@ -91,3 +92,14 @@ def has_leaf_implementation(nodedef, library):
     doc_impl = library.implementations.get(nodedef.name)
     return doc_impl is not None and nodedef.source in ("document", "user") and bool(
         doc_impl.sourcecode is not None or (doc_impl.file and doc_impl.function))
+
+
+class GlslRules(BuildRules):
+    """What the GLSL target tells graph building (graph.BuildRules): the nodedefs it implements itself,
+    which are kept as one node where the libraries also implement them by a nodegraph."""
+
+    def implements(self, nodedef, library):
+        return has_leaf_implementation(nodedef, library)
+
+
+RULES = GlslRules()

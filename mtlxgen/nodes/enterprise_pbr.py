@@ -1,7 +1,7 @@
 """The Enterprise PBR material (glsl_lib/enterprise/enterprise_pbr_defs.mtlx: ND_enterprise_pbr_surfaceshader).
 
 Dassault Systemes' DSPBR 2025x (docs/material-models.md sec. 3): the handler fills the GLSL struct
-MgEpbr from the node's inputs and lights it in the structure of pbrlib_shading.shade(); the physics is
+MgEpbr from the node's inputs and lights it in the lit-surface skeleton (lit_surface.py); the physics is
 in glsl_lib/enterprise/ (one concern a file, see enterprise_pbr.glsl for the layering):
 
 - direct lights (u_lightData, mg_sample_light): light * f(l, v) * |n.l|, f = mg_epbr_bsdf (reciprocal;
@@ -18,7 +18,7 @@ it a non-zero value, to keep the layer adjustable at run time.
 
 The energy tables are glsl_lib/enterprise/tables.glsl, written by tools/enterprise_tables.py.
 """
-from .pbrlib_shading import LIGHTING_FILES
+from .lit_surface import light_loop, lit_surface
 
 FILES = ["enterprise/enterprise_pbr.glsl"]
 
@@ -47,36 +47,24 @@ def enterprise_pbr(node, em):
         if name in OPTIONAL_LAYERS and _layer_off(node, name):
             return OPTIONAL_LAYERS[name]
         return em.input_expr(node, name)
-    for f in LIGHTING_FILES + FILES:
-        em.require(f)
-    em.app_uniform("u_viewPosition")
-    out = em.fresh(node.id + "_out")
-    em.line("surfaceshader %s = surfaceshader(vec3(0.0), vec3(0.0));" % out)
-    em.open_block(None, "Enterprise PBR (DSPBR 2025x)")
-    em.line("vec3 mg_P = %s;" % em.stream("position_world"))
-    em.line("vec3 mg_V = normalize(u_viewPosition - mg_P);")
-    em.line("vec3 mg_L = vec3(0.0);")
-    em.line("MgEpbr mg_m;")
-    for name in MEMBERS:
-        em.line("mg_m.%s = %s;" % (name, i(name)))
-    em.line("mg_m.N = normalize(%s);" % i("normal"))
-    em.line("mg_m.T = %s;" % i("tangent"))
-    em.line("mg_m.Nc = normalize(%s);" % i("clearcoatNormal"))
-    em.line("mg_m.P = mg_P;")
-    em.line("mg_m.footprint = length(fwidth(mg_P));")
-    em.line("MgEpbrLobes mg_k = mg_epbr_lobes(mg_m);")
-    em.line("for (int mg_i = 0; mg_i < min(u_numActiveLightSources, MG_MAX_LIGHTS); ++mg_i)")
-    em.open_block("reflection")
-    em.line("vec3 mg_light;")
-    em.line("mg_sample_light(u_lightData[mg_i], mg_P, mg_L, mg_light);")
-    em.line("%s.color += mg_light * mg_epbr_bsdf(mg_m, mg_k, mg_L, mg_V) * abs(dot(mg_k.frame[2], mg_L));" % out)
-    em.close_block()
-    em.line("%s.color += mg_epbr_environment(mg_m, mg_k, mg_V);" % out)
-    em.line("%s.color += mg_epbr_emission(mg_m, mg_k, mg_V);" % out)
-    em.line("float mg_opacity = clamp(%s, 0.0, 1.0);" % i("cutoutOpacity"))
-    em.line("%s.color *= mg_opacity;" % out)
-    em.line("%s.transparency = vec3(1.0 - mg_opacity);" % out)
-    em.close_block()
+    with lit_surface(em, node.id, FILES, "Enterprise PBR (DSPBR 2025x)") as out:
+        em.line("MgEpbr mg_m;")
+        for name in MEMBERS:
+            em.line("mg_m.%s = %s;" % (name, i(name)))
+        em.line("mg_m.N = normalize(%s);" % i("normal"))
+        em.line("mg_m.T = %s;" % i("tangent"))
+        em.line("mg_m.Nc = normalize(%s);" % i("clearcoatNormal"))
+        em.line("mg_m.P = mg_P;")
+        em.line("mg_m.footprint = length(fwidth(mg_P));")
+        em.line("MgEpbrLobes mg_k = mg_epbr_lobes(mg_m);")
+        with light_loop(em):
+            em.line("%s.color += mg_light * mg_epbr_bsdf(mg_m, mg_k, mg_L, mg_V) * abs(dot(mg_k.frame[2], mg_L));"
+                    % out)
+        em.line("%s.color += mg_epbr_environment(mg_m, mg_k, mg_V);" % out)
+        em.line("%s.color += mg_epbr_emission(mg_m, mg_k, mg_V);" % out)
+        em.line("float mg_opacity = clamp(%s, 0.0, 1.0);" % i("cutoutOpacity"))
+        em.line("%s.color *= mg_opacity;" % out)
+        em.line("%s.transparency = vec3(1.0 - mg_opacity);" % out)
     return {"out": out}
 
 

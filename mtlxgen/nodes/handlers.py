@@ -1,6 +1,9 @@
 """The few node implementations that need code rather than a template.
 
-Each handler takes (node, emitter) and returns {output name: GLSL expression}.
+Each handler takes (node, emitter) and returns {output name: GLSL expression}. A handler is pure: it
+writes its statements through the emitter (em.line, at the emitter's indentation) and changes nothing of
+the graph; the uniforms a shader gains or leaves out (a UDIM tile's sampler, a <UDIM> pattern that is no
+file) go through the emitter's own uniform table (em.add_uniform, em.drop_unread_uniform).
 """
 
 _SPACES = {"model": "object", "object": "object", "world": "world"}
@@ -84,7 +87,7 @@ def _texture_file(node, em, name="file"):
     """(sampler uniform, file value, colour space) of a filename input."""
     src = node.inputs[name]
     sampler = src.uniform or (em.expr(src) if src.linked else None)
-    u = em.graph.uniforms.get(sampler)
+    u = em.uniform(sampler)
     if u is None:
         em.fail(node, "input '%s' does not name a texture file" % name)
     return sampler, str(u.value or ""), src.colorspace or u.colorspace
@@ -107,7 +110,7 @@ def _color_managed(em, expr, out_type, colorspace):
     if out_type == "color3":
         return template.format(c=expr)
     var = em.fresh("cm")
-    em.body.append("    vec4 %s = %s;" % (var, expr))
+    em.line("vec4 %s = %s;" % (var, expr))
     return "vec4(%s, %s.a)" % (template.format(c=var + ".rgb"), var)
 
 
@@ -127,7 +130,6 @@ def _default_value(node, name="default"):
 
 def _udim_tiles(node, em, sampler, value, colorspace):
     """{(u, v) cell: new sampler uniform} for a file naming <UDIM> or <UVTILE>, one per tile on disk."""
-    from ..graph import Uniform
     from ..resolve import resolve_file
     folder, base = _os.path.split(value)
     where = resolve_file(folder or ".", em.graph.doc_path)
@@ -151,9 +153,7 @@ def _udim_tiles(node, em, sampler, value, colorspace):
             cell = (int(uu) - 1, int(vv) - 1)
         if cell in tiles:
             continue
-        name = em.fresh("%s_%s" % (sampler, t))
-        em.graph.uniforms[name] = Uniform(name, "filename", _os.path.join(where, f), node.loc, colorspace)
-        tiles[cell] = name
+        tiles[cell] = em.add_uniform("%s_%s" % (sampler, t), "filename", _os.path.join(where, f), node.loc, colorspace)
     return tiles
 
 
@@ -173,14 +173,13 @@ def image(node, em):
             em.fail(node, "no tiles of '%s' found on disk" % value)
         em.require("stdlib/texture/udim.glsl")
         uvar, cell = em.fresh("%s_uv" % node.id), em.fresh("%s_tile" % node.id)
-        em.body.append("    vec2 %s = %s;" % (uvar, uv))
-        em.body.append("    ivec2 %s = ivec2(floor(%s));" % (cell, uvar))
+        em.line("vec2 %s = %s;" % (uvar, uv))
+        em.line("ivec2 %s = ivec2(floor(%s));" % (cell, uvar))
         read = _WIDEN[out_type].format(em.input_expr(node, "default"))
         for (cu, cv), tile in sorted(tiles.items(), reverse=True):
             em.textures[tile] = dict(sampling)
             read = "(%s == ivec2(%d, %d) ? mg_udim_read(%s, %s, %s) : %s)" % (cell, cu, cv, tile, uvar, cell, read)
-        if not any(s.uniform == sampler for n in em.graph.nodes if n is not node for s in n.inputs.values()):
-            em.graph.uniforms.pop(sampler, None)     # the <UDIM> pattern itself is no file
+        em.drop_unread_uniform(sampler, node)     # the <UDIM> pattern itself is no file
     else:
         em.textures[sampler] = sampling
         read = "texture(%s, %s)" % (sampler, uv)

@@ -1,50 +1,36 @@
 """Shader nodes that light closures (MaterialX Specification 1.39, pbrlib "surface"), and the
 closure-combining nodes.
 
-A surface evaluates its BSDF graph once per context: "reflection" for each direct light (mg_L is the
-direction to the light), "indirect" for the environment, "transmission" for what is seen through
-it, and its EDF in "emission". Closure templates may read the block's mg_L, mg_V, mg_P and
+A surface (in the skeleton of lit_surface.py) evaluates its BSDF graph once per context: "reflection"
+for each direct light (mg_L is the direction to the light), "indirect" for the environment,
+"transmission" for what is seen through it, and its EDF in "emission". Closure templates may read the block's mg_L, mg_V, mg_P and
 mg_occlusion, and in "transmission" mg_thin_walled (the surface is a thin shell: what is seen through it
 is not bent by a solid interior). Opacity scales the colour and blends the transparency towards 1.
 """
-
-LIGHTING_FILES = ["closures.glsl", "lighting/environment.glsl", "lighting/lights.glsl"]
+from .lit_surface import light_loop, lit_surface
 
 
 def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface", thin_walled="false"):
     """Emit the lighting of a BSDF and/or EDF Source; returns the surfaceshader variable."""
-    for f in LIGHTING_FILES:
-        em.require(f)
-    em.app_uniform("u_viewPosition")
-    out = em.fresh(stem + "_out")
-    em.line("surfaceshader %s = surfaceshader(vec3(0.0), vec3(0.0));" % out)
-    em.open_block(None)
-    em.line("vec3 mg_P = %s;" % em.stream("position_world"))
-    em.line("vec3 mg_V = normalize(u_viewPosition - mg_P);")
-    em.line("vec3 mg_L = vec3(0.0);")
-    em.line("float mg_occlusion = 1.0;")
-    if bsdf is not None and bsdf.linked:
-        em.line("for (int mg_i = 0; mg_i < min(u_numActiveLightSources, MG_MAX_LIGHTS); ++mg_i)")
-        em.open_block("reflection")
-        em.line("vec3 mg_light;")
-        em.line("mg_sample_light(u_lightData[mg_i], mg_P, mg_L, mg_light);")
-        em.line("%s.color += mg_light * %s.response;" % (out, em.closure(bsdf, "reflection")))
-        em.close_block()
-        em.open_block("indirect", "environment")
-        em.line("%s.color += mg_occlusion * %s.response;" % (out, em.closure(bsdf, "indirect")))
-        em.close_block()
-        em.open_block("transmission", "seen through the surface")
-        em.line("bool mg_thin_walled = %s;" % thin_walled)
-        em.line("%s.color += %s.response;" % (out, em.closure(bsdf, "transmission")))
-        em.close_block()
-    if edf is not None and edf.linked:
-        em.open_block("emission", "emission")
-        em.line("%s.color += %s;" % (out, em.closure(edf, "emission")))
-        em.close_block()
-    if opacity != "1.0":
-        em.line("%s.color *= %s;" % (out, opacity))
-        em.line("%s.transparency = mix(vec3(1.0), %s.transparency, %s);" % (out, out, opacity))
-    em.close_block()
+    with lit_surface(em, stem) as out:
+        em.line("float mg_occlusion = 1.0;")
+        if bsdf is not None and bsdf.linked:
+            with light_loop(em):
+                em.line("%s.color += mg_light * %s.response;" % (out, em.closure(bsdf, "reflection")))
+            em.open_block("indirect", "environment")
+            em.line("%s.color += mg_occlusion * %s.response;" % (out, em.closure(bsdf, "indirect")))
+            em.close_block()
+            em.open_block("transmission", "seen through the surface")
+            em.line("bool mg_thin_walled = %s;" % thin_walled)
+            em.line("%s.color += %s.response;" % (out, em.closure(bsdf, "transmission")))
+            em.close_block()
+        if edf is not None and edf.linked:
+            em.open_block("emission", "emission")
+            em.line("%s.color += %s;" % (out, em.closure(edf, "emission")))
+            em.close_block()
+        if opacity != "1.0":
+            em.line("%s.color *= %s;" % (out, opacity))
+            em.line("%s.transparency = mix(vec3(1.0), %s.transparency, %s);" % (out, out, opacity))
     return out
 
 

@@ -5,8 +5,8 @@ docs/material-models.md sec. 5) choose one model per slot with uniform string in
 model (Lambert, cel shading with a default / black-and-white / texture ramp), the specular workflow
 (metalness, or a specular map with optional energy conservation), and the microfacet specular's
 Fresnel, visibility and normal distribution. The handler reads those choices at generation time and
-emits calls to the chosen functions of glsl_lib/stride/ only, in the lighting structure of
-pbrlib_shading.shade():
+emits calls to the chosen functions of glsl_lib/stride/ only, in the lit-surface skeleton
+every lit shading model shares (lit_surface.py):
 
 - direct lights (u_lightData, mg_sample_light): diffuse/pi * light * NL (or the cel ramp of NL)
   + F V D / 4 * light * NL;
@@ -19,7 +19,7 @@ pbrlib_shading.shade():
   lets its view-based transmittance through as transparency.
 """
 from ..diagnostics import MtlxError
-from .pbrlib_shading import LIGHTING_FILES
+from .lit_surface import light_loop, lit_surface
 
 FILES = ["stride/fresnel.glsl", "stride/visibility.glsl", "stride/ndf.glsl", "stride/diffuse.glsl",
          "stride/environment.glsl"]
@@ -68,26 +68,23 @@ def stride_material(node, em):
     ramp_src = node.inputs["cel_ramp_texture"]
     sampler = ramp_src.uniform
     if cel_ramp == "texture":
-        if sampler is None or not str(em.graph.uniforms[sampler].value or ""):
+        if sampler is None or not str(em.uniform(sampler).value or ""):
             raise MtlxError((ramp_src.loc or node.loc, "node '%s' (%s): cel_ramp 'texture' needs a cel_ramp_texture file"
                              % (node.id, node.nodedef.name)))
         em.textures[sampler] = {"uaddressmode": "clamp", "vaddressmode": "clamp", "filtertype": "linear",
                                 "default": None}
-    elif sampler and not any(s.uniform == sampler for n in em.graph.nodes if n is not node
-                             for s in n.inputs.values()):
-        em.graph.uniforms.pop(sampler, None)      # no ramp texture read: no sampler to bind
+    elif sampler:
+        em.drop_unread_uniform(sampler, node)      # no ramp texture read: no sampler to bind
 
-    for f in LIGHTING_FILES + FILES:
-        em.require(f)
-    em.app_uniform("u_viewPosition")
-    out = em.fresh(node.id + "_out")
-    em.line("surfaceshader %s = surfaceshader(vec3(0.0), vec3(0.0));" % out)
-    em.open_block(None, "Stride material: %s diffuse, %s workflow, %s Fresnel, %s visibility, %s NDF"
-                  % (diffuse_model if cel_ramp is None else "cel_shading/" + cel_ramp, workflow, fresnel, vis, ndf))
-    em.line("vec3 mg_P = %s;" % em.stream("position_world"))
-    em.line("vec3 mg_V = normalize(u_viewPosition - mg_P);")
-    em.line("vec3 mg_N = normalize(%s);" % i("normal"))
-    em.line("vec3 mg_L = vec3(0.0);")
+    comment = "Stride material: %s diffuse, %s workflow, %s Fresnel, %s visibility, %s NDF" % (
+        diffuse_model if cel_ramp is None else "cel_shading/" + cel_ramp, workflow, fresnel, vis, ndf)
+    with lit_surface(em, node.id, FILES, comment, normal=i("normal")) as out:
+        _stride_body(node, em, out, i, diffuse_model, cel_ramp, workflow, fresnel, vis, ndf, sampler)
+    return {"out": out}
+
+
+def _stride_body(node, em, out, i, diffuse_model, cel_ramp, workflow, fresnel, vis, ndf, sampler):
+    """The model's lines inside the lit-surface skeleton (lit_surface.py)."""
     em.line("float mg_NV = max(dot(mg_N, mg_V), 1.0e-4);")
     em.line("float mg_gloss = clamp(%s, 0.0, 1.0);" % i("glossiness"))
     em.line("float mg_alpha = max((1.0 - mg_gloss) * (1.0 - mg_gloss), 0.001);")
@@ -106,21 +103,16 @@ def stride_material(node, em):
         em.line("vec3 mg_transmittance;")
         em.line("vec3 mg_glass = mg_stride_thin_glass(mg_f0, mg_NV, %s, mg_transmittance);" % i("ior"))
 
-    # direct lights
-    em.line("for (int mg_i = 0; mg_i < min(u_numActiveLightSources, MG_MAX_LIGHTS); ++mg_i)")
-    em.open_block("reflection")
-    em.line("vec3 mg_light;")
-    em.line("mg_sample_light(u_lightData[mg_i], mg_P, mg_L, mg_light);")
-    em.line("vec3 mg_H = mg_L + mg_V;")
-    em.line("mg_H /= max(length(mg_H), 1.0e-6);")
-    _specular_terms(em, fresnel, vis, ndf)
-    if diffuse_model == "lambert":
-        em.line("%s.color += mg_diffuse / MG_PI * mg_light * mg_NL;" % out)
-    elif diffuse_model == "cel_shading":
-        ramp = CEL_RAMP[cel_ramp].format(x="mg_NL", sampler=sampler)
-        em.line("%s.color += mg_diffuse / MG_PI * mg_light * %s;" % (out, ramp))
-    em.line("%s.color += mg_F * (mg_Vis * mg_D / 4.0) * mg_light * mg_NL;" % out)
-    em.close_block()
+    with light_loop(em):
+        em.line("vec3 mg_H = mg_L + mg_V;")
+        em.line("mg_H /= max(length(mg_H), 1.0e-6);")
+        _specular_terms(em, fresnel, vis, ndf)
+        if diffuse_model == "lambert":
+            em.line("%s.color += mg_diffuse / MG_PI * mg_light * mg_NL;" % out)
+        elif diffuse_model == "cel_shading":
+            ramp = CEL_RAMP[cel_ramp].format(x="mg_NL", sampler=sampler)
+            em.line("%s.color += mg_diffuse / MG_PI * mg_light * %s;" % (out, ramp))
+        em.line("%s.color += mg_F * (mg_Vis * mg_D / 4.0) * mg_light * mg_NL;" % out)
 
     # environment
     em.open_block("indirect", "environment: Lambert irradiance and the specular lobe, importance-sampled")
@@ -135,7 +127,8 @@ def stride_material(node, em):
             % ndf)
     em.line("mg_L = reflect(-mg_V, mg_H);")
     em.line("if (dot(mg_N, mg_L) <= 0.0)")
-    em.line("    continue;")
+    with em.indented():
+        em.line("continue;")
     _specular_terms(em, fresnel, vis, ndf)
     em.line("// density of mg_L: D NH / (4 LH); the estimate F V D/4 NL / pdf = F V NL LH / NH")
     em.line("float mg_pdf = mg_D * mg_NH / (4.0 * max(mg_LH, 1.0e-4));")
@@ -154,8 +147,6 @@ def stride_material(node, em):
         em.line("float mg_opacity = clamp(mg_emissive.a, 0.0, 1.0);")
         em.line("%s.color *= mg_opacity;" % out)
         em.line("%s.transparency = mix(vec3(1.0), %s.transparency, mg_opacity);" % (out, out))
-    em.close_block()
-    return {"out": out}
 
 
 NODES = {"stride_material": {"handler": stride_material}}

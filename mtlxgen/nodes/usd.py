@@ -10,9 +10,9 @@ A document written against MaterialX's nodedefs alone (e.g. MaterialX's own Exam
 keeps MaterialX's nodegraphs, as its author saw them in MaterialX; pass the option to choose either way.
 The rules only touch USD's preview nodes, so other documents never change.
 
-With the rules on, graph building resolves these categories to our own nodedefs in
-glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES), and accepts the seed's
-`result` output name for the `out` of USD nodes (UsdPrimvarReader, UsdTransform2d):
+With the rules on (SeedRules, handed to graph building by pipeline.py), graph building resolves these
+categories to our own nodedefs in glsl_lib/usd/usd_seed.mtlx instead of MaterialX's (SEED_CATEGORIES),
+and accepts the seed's `result` output name for the `out` of USD nodes (UsdPrimvarReader, UsdTransform2d):
 - UsdUVTexture: `sourceColorSpace` raw / sRGB / auto (auto: a linear claim in the file's metadata
   means raw; otherwise sRGB when the file is 8-bit with 3 or 4 channels, else raw; OpenImageIO calls
   every PNG sRGB whether or not it says so, so only a linear claim counts as metadata); wrapS / wrapT
@@ -110,6 +110,26 @@ def accepts_result_output(category):
     return category.startswith("Usd")
 
 
+class SeedRules:
+    """A target's graph.BuildRules (`base`) with the seed's rules on top: USD's preview nodes resolve to our
+    seed-rule nodedefs, and a connection may name the single output of a USD node `result`. Handed to graph
+    building by pipeline.py where the rules are on."""
+
+    def __init__(self, base):
+        self.base = base
+
+    def nodedef_for(self, node, library):
+        return seed_nodedef(node, library) or self.base.nodedef_for(node, library)
+
+    def output_name(self, category, name, outputs):
+        if name == "result" and "out" in outputs and accepts_result_output(category):
+            return "out"
+        return self.base.output_name(category, name, outputs)
+
+    def implements(self, nodedef, library):
+        return self.base.implements(nodedef, library)
+
+
 # ---------------------------------------------------------------- UsdUVTexture
 
 def file_info(path):
@@ -167,7 +187,7 @@ def uv_texture(node, em):
     sampler, value, _ = _texture_file(node, em)
     tiles = _udim_tiles(node, em, sampler, value, None) if _TILE_TOKENS.search(value) else None
     if tiles:
-        info = file_info(str(em.graph.uniforms[tiles[min(tiles)]].value))   # the first tile speaks for all
+        info = file_info(str(em.uniform(tiles[min(tiles)]).value))   # the first tile speaks for all
     else:
         info = file_info(resolve_file(value, em.graph.doc_path)) if tiles is None else None
     wrap_s, wrap_t = _wrap(node, em, "wrapS", info), _wrap(node, em, "wrapT", info)
@@ -200,8 +220,7 @@ def uv_texture(node, em):
                 em.textures[tile] = dict(sampling)
                 expr = "(%s == ivec2(%d, %d) ? mg_usd_uvtexture(%s, %s - vec2(%d.0, %d.0), %d, %d, %d, %s, %s, %s) : %s)" % (
                     (cell, cu, cv, tile, st, cu, cv) + args + (expr,))
-            if not any(s.uniform == sampler for n in em.graph.nodes if n is not node for s in n.inputs.values()):
-                em.graph.uniforms.pop(sampler, None)     # the <UDIM> pattern itself is no file
+            em.drop_unread_uniform(sampler, node)     # the <UDIM> pattern itself is no file
         else:
             em.textures[sampler] = sampling
             expr = "mg_usd_uvtexture(%s, %s, %d, %d, %d, %s, %s, %s)" % ((sampler, em.input_expr(node, "st")) + args)
@@ -231,20 +250,17 @@ def primvar_reader(node, em):
     """UsdPrimvarReader_float/float2/float3/float4/int: the primvar's vertex attribute where the renderer binds
     one (flag uniform 1), else the renderer's texture coordinates (float2) or the fallback (the others). In the
     vertex stage (displacement) there is no flag: the texture coordinates or the fallback."""
-    from ..emit import VertexEmitter
-    from ..graph import Uniform
     out_type = node.outputs["out"]
     otherwise = em.stream("texcoord_0") if out_type == "vector2" else em.input_expr(node, "fallback")
     varname = node.static.get("varname") or ""
-    if not varname or isinstance(em, VertexEmitter):
+    if not varname or em.stage == "vertex":
         return {"out": otherwise}
     attribute = primvar_attribute(varname)
     taken = em.streams.get(attribute[len("i_"):])
     if taken is not None and taken.type != em.glsl_type(out_type):     # the same primvar read as another type
         attribute = "%s_%s" % (attribute, out_type)
     value = em.stream(attribute[len("i_"):], out_type)
-    flag = em.fresh(node.id + "_primvar")
-    em.graph.uniforms[flag] = Uniform(name=flag, type="integer", value=0, loc=node.loc)
+    flag = em.add_uniform(node.id + "_primvar", "integer", 0, node.loc)
     em.primvars.append({"varname": varname, "attribute": attribute, "type": em.glsl_type(out_type),
                         "uniform": flag})
     return {"out": "(%s != 0 ? %s : %s)" % (flag, value, otherwise)}

@@ -1,0 +1,103 @@
+"""The typed graph's data and naming rules: what graph building produces and emission reads.
+
+Plain dataclasses (Source, GNode, Uniform, Graph) and the GLSL identifier rules that give nodes and
+uniforms their names (glsl_identifier, unique_identifier). A leaf: it knows no document reader, no node
+table and no target, so both sides of the pipeline can share it without importing each other.
+"""
+import hashlib
+import re
+from dataclasses import dataclass, field
+
+from .diagnostics import Loc
+
+
+@dataclass
+class Source:
+    """Where an input's value comes from: a constant, a public uniform, or another node's output."""
+    type: str
+    value: object = None              # constant value (also the uniform's initial value)
+    uniform: str = None               # public uniform name, when the value is exposed
+    node: str = None                  # producing node id, when linked
+    output: str = None                # producing node's output name
+    colorspace: str = None            # filename inputs: the file's colour space
+    unit: str = None
+    unittype: str = None
+    loc: Loc = None
+
+    @property
+    def linked(self):
+        return self.node is not None
+
+
+@dataclass
+class GNode:
+    id: str                           # unique within the graph; also the stem of its GLSL variables
+    category: str
+    nodedef: object                   # document.NodeDef
+    inputs: dict                      # input name -> Source, in nodedef order
+    outputs: dict                     # output name -> type
+    loc: Loc
+    static: dict = field(default_factory=dict)   # string/enum inputs: name -> value (compile time)
+
+
+@dataclass
+class Uniform:
+    name: str
+    type: str
+    value: object
+    loc: Loc = None
+    colorspace: str = None            # filename uniforms only
+    default: object = None            # image nodes: the colour outside the image
+    marked: bool = False              # the document marks it uniform="true" (the input or its nodedef's): kept
+                                      # a uniform in the reduced interface (reduce.py)
+
+
+@dataclass
+class Graph:
+    element: str                      # name path of the renderable element
+    kind: str                         # "material", "shader" or "output"
+    result: Source                    # the value rendered
+    nodes: list                       # GNode in dependency order, only those the result needs
+    uniforms: dict                    # name -> Uniform (public inputs)
+    structs: dict
+    doc_path: str
+    library: object = None
+    colorspace: str = None            # the document's working colour space (None: files are not converted)
+    warnings: list = field(default_factory=list)   # (Loc, message): slips MaterialX reads on, read as it reads them
+
+
+_GLSL_RESERVED = set("""attribute const uniform varying layout centroid flat smooth noperspective patch sample
+break continue do for while switch case default if else subroutine in out inout float double int void bool true
+false invariant discard return mat2 mat3 mat4 dmat2 dmat3 dmat4 mat2x2 mat2x3 mat2x4 mat3x2 mat3x3 mat3x4 mat4x2
+mat4x3 mat4x4 vec2 vec3 vec4 ivec2 ivec3 ivec4 bvec2 bvec3 bvec4 dvec2 dvec3 dvec4 uint uvec2 uvec3 uvec4 lowp
+mediump highp precision sampler1D sampler2D sampler3D samplerCube struct common partition active asm class union
+enum typedef template this packed goto inline noinline volatile public static extern external interface long
+short half fixed unsigned superp input output filter sizeof cast namespace using main texture sample resource
+BSDF EDF VDF surfaceshader volumeshader displacementshader lightshader material""".split())
+
+
+IDENTIFIER_CHARS = 64     # longer names are cut and end in a hash: not every driver takes 1,000-character names
+
+
+def glsl_identifier(name):
+    s = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    s = re.sub(r"__+", "_", s)
+    if not s or s[0].isdigit():
+        s = "n" + s
+    if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):
+        s = "n_" + s
+    if len(s) > IDENTIFIER_CHARS:
+        digest = hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+        s = s[:IDENTIFIER_CHARS - 10].rstrip("_") + "_h" + digest
+    return s
+
+
+def unique_identifier(stem, taken):
+    """A GLSL identifier from `stem` not yet in `taken` (a counter appended where needed); adds it."""
+    base = glsl_identifier(stem)
+    name, k = base, 1
+    while name in taken:
+        k += 1
+        name = "%s%d" % (base, k)
+    taken.add(name)
+    return name

@@ -1,0 +1,84 @@
+"""The template expander: a node implementation's inline template (nodes/__init__.py) to a GLSL expression.
+
+    {{in1}}        the GLSL expression of input in1 (a closure input: its value in the current context)
+    {{=index}}     the compile-time value of an unconnected input (a string one as an identifier)
+    {{@name}}      a geometric stream (streams.py)
+    {{$type}}      the GLSL type of the output; {{$type:in1}} that of an input
+
+Expansion reads values through the emitter's services (expr, static, stream, glsl_type, closure, require,
+fail) and writes nothing itself.
+"""
+from . import mxtypes
+from .graphtypes import glsl_identifier
+
+CLOSURE_TYPES = ("BSDF", "EDF", "VDF")
+
+# closure contexts in which a BSDF shades with its normal turned towards the viewer
+FACING_CONTEXTS = ("reflection", "indirect", "transmission")
+
+
+class Unterminated(Exception):
+    pass
+
+
+def tokens(template):
+    """(is_field, text) of a template, left to right; raises Unterminated where a `{{` is not closed (after
+    the tokens before it)."""
+    i = 0
+    while True:
+        j = template.find("{{", i)
+        if j < 0:
+            yield False, template[i:]
+            return
+        k = template.find("}}", j)
+        if k < 0:
+            raise Unterminated()
+        yield False, template[i:j]
+        yield True, template[j + 2:k].strip()
+        i = k + 2
+
+
+def render(em, template, node, out_type):
+    """The template of `node` (whose output has type `out_type`) expanded through emitter `em`."""
+    out = []
+    try:
+        for is_field, text in tokens(template):
+            out.append(field(em, text, node, out_type) if is_field else text)
+    except Unterminated:
+        em.fail(node, "unterminated '{{' in implementation template")
+    return "".join(out)
+
+
+def field(em, f, node, out_type):
+    """The GLSL text of one template field."""
+    if f.startswith("="):
+        value = em.static(node, f[1:])
+        t = node.inputs[f[1:]].type
+        if t in ("string", "filename", "geomname"):
+            return glsl_identifier(str(value))
+        try:
+            return mxtypes.glsl_literal(t, value, em.graph.structs)
+        except mxtypes.ValueError_ as e:
+            em.fail(node, "input '%s': %s" % (f[1:], e))
+    if f.startswith("@"):
+        return em.stream(f[1:], node=node)
+    if f == "$type":
+        return em.glsl_type(out_type)
+    if f.startswith("$type:"):
+        if f[6:] not in node.inputs:
+            em.fail(node, "implementation template names '%s', which is not an input" % f[6:])
+        return em.glsl_type(node.inputs[f[6:]].type)
+    if f in node.inputs:
+        src = node.inputs[f]
+        if src.type in ("string", "geomname") and not src.linked:
+            em.fail(node, "string input '%s' cannot be used as a GLSL value" % f)
+        if src.type in CLOSURE_TYPES and src.node in em.closure_nodes:
+            return em.closure(src, em.context or "indirect")
+        if f == "normal" and src.type == "vector3" and em.context in FACING_CONTEXTS \
+                and "BSDF" in node.outputs.values():
+            # a BSDF shades with its normal turned towards the viewer: a normal-mapped or authored
+            # normal facing away would light the surface from behind (as MaterialX's BSDFs do)
+            em.require("pbrlib/forward_facing.glsl")
+            return "mg_forward_facing(%s, mg_V)" % em.expr(src)
+        return em.expr(src)
+    em.fail(node, "implementation template names '%s', which is not an input" % f)

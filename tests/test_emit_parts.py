@@ -1,0 +1,64 @@
+"""The emitter's parts on their own: the stage writer, the template tokenizer, closure planning."""
+import pytest
+
+from util import write_doc
+
+from mtlxgen import closureplan, emit, pipeline
+from mtlxgen.stagewriter import StageWriter
+from mtlxgen.template import Unterminated, tokens
+
+
+def test_the_writer_indents_scopes_and_single_statements():
+    w = StageWriter()
+    w.line("int a = 0;")
+    w.open_scope("a */ comment\nwith a break")
+    w.line("if (a > 0)")
+    with w.indented():
+        w.line("a = 1;")
+    w.close_scope()
+    assert w.lines == ["    int a = 0;", "    // a *? comment?with a break", "    {", "        if (a > 0)",
+                       "            a = 1;", "    }"]
+    assert w.depth == 1
+
+
+def test_template_tokens_left_to_right_and_unterminated():
+    assert list(tokens("f({{ in1 }}, {{=n}})")) == [(False, "f("), (True, "in1"), (False, ", "), (True, "=n"),
+                                                    (False, ")")]
+    seen = []
+    with pytest.raises(Unterminated):
+        for t in tokens("{{a}} + {{b"):
+            seen.append(t)
+    assert seen == [(False, ""), (True, "a")]
+
+
+def test_an_unterminated_template_is_a_located_error(tmp_path):
+    body = ('<nodedef name="ND_t" node="t"><input name="x" type="float" value="1" /><output name="out" type="float" />'
+            '</nodedef><implementation name="IM_t" nodedef="ND_t" target="genglsl" sourcecode="{{x} * 2.0" />'
+            '<t name="n" type="float" /><output name="o" type="float" nodename="n" />')
+    shaders, error = pipeline.generate(write_doc(tmp_path, body), partial=True)
+    assert not shaders and error is not None
+    assert any("unterminated" in line or "{{" in line for line in error.lines()), error.lines()
+
+
+MIX = ('<oren_nayar_diffuse_bsdf name="a" type="BSDF" /><oren_nayar_diffuse_bsdf name="b" type="BSDF" />'
+       '<mix name="m" type="BSDF"><input name="fg" type="BSDF" nodename="a" /><input name="bg" type="BSDF" nodename="b" />'
+       '<input name="mix" type="float" value="0.25" /></mix>'
+       '<surface name="s" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="m" /></surface>'
+       '<output name="o" type="surfaceshader" nodename="s" />')
+
+
+def test_closure_planning_is_plain_data_over_the_graph(tmp_path):
+    g = pipeline.Session(write_doc(tmp_path, MIX)).graph("o")
+    plan = closureplan.ClosurePlan(g)
+    mix = next(n.id for n in g.nodes if n.category == "mix")
+    a, b = (next(n.id for n in g.nodes if n.id.startswith(x) and n.category != "mix") for x in "ab")
+    conds = plan.conditions(mix)
+    assert conds == {mix: None, a: ("edge", mix, "{mix} != 0.0"), b: ("edge", mix, "{mix} != 1.0")}
+    assert closureplan.glsl(conds[a], lambda node_id: {"mix": "k"}) == "k != 0.0"
+    assert closureplan.glsl(closureplan.disjoin(conds[a], closureplan.conjoin(conds[b], "w")),
+                            lambda node_id: {"mix": "k"}) == "(k != 0.0) || (k != 1.0 && w)"
+    factor = next(n for n in g.nodes if n.id == mix).inputs["mix"].uniform     # a public uniform at document level
+    frag = emit.emit(g).fragment
+    # the emitter writes each lobe's planned condition, and the lobe's weight, before its ?:
+    assert "(%s != 0.0 && a_weight >= 1.0e-6) ?" % factor in frag
+    assert "(%s != 1.0 && b_weight >= 1.0e-6) ?" % factor in frag
