@@ -277,3 +277,20 @@ def test_reachable_code_draws_the_pixels_of_whole_files(renderer, monkeypatch, p
     assert len(small.fragment) < len(whole.fragment)
     a, b = renderer.render(small), renderer.render(whole)
     assert np.array_equal(a, b, equal_nan=True), float(np.nanmax(np.abs(a - b)))
+
+
+# ---------------------------------------------------------------- loop-invariant work out of the sample loops
+
+@pytest.mark.parametrize("rel, loop", [("lighting/environment_specular.glsl", "MG_ENV_SPECULAR_SAMPLES"),
+                                       ("lighting/environment_refraction.glsl", "MG_ENV_REFRACTION_SAMPLES")])
+def test_environment_sample_loops_test_the_film_before_the_loop(rel, loop):
+    """The film thickness (a uniform) is tested once per lobe: the loop bodies read a Fresnel curve chosen before
+    them (the film's or the bare one), never mg_fresnel_eval, which tests it."""
+    lf = lib(rel)
+    body = [it for it in lf.items if it.names == {loop}]
+    assert len(body) == 1 and "for" in body[0].uses and "FRESNEL" not in body[0].uses
+    assert not {"mg_fresnel_eval", "film_thickness"} & body[0].uses
+    caller = [it for it in lf.items if loop in it.uses]
+    assert len(caller) == 1
+    text = lf.item_text(caller[0])
+    assert "%s(mg_fresnel_film)" % loop in text and "%s(mg_fresnel_base)" % loop in text

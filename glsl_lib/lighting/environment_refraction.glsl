@@ -46,6 +46,26 @@ vec3 mg_refraction_thin_shell(vec3 I, vec3 M, vec3 N, float ior)
 // (a comparison switch: tests/test_rough_transmission.py shows it at parity with MaterialX on the whole
 // sphere). MG_REFRACTION_PREFILTERED (the split-sum method): one lookup along the refracted direction at
 // the lobe's level, times `through` (1 - the tabulated reflected albedo).
+// The sample loop of mg_env_refraction, with the Fresnel curve read by FRESNEL(fr, cosine), chosen before the loop
+// as in mg_env_specular. Each sample also adds its reflection, as the node's reflection lobe weighs it
+// (mg_env_specular), for the cap.
+#define MG_ENV_REFRACTION_SAMPLES(FRESNEL)                                                                  \
+    for (int i = 0; i < n; ++i)                                                                             \
+    {                                                                                                       \
+        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));                                  \
+        vec3 Lt = thin_walled ? mg_refraction_thin_shell(-Vt, H, vec3(0.0, 0.0, 1.0), ior)                  \
+                              : mg_refraction_solid_sphere(-Vt, H, ior);                                    \
+        float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);                                                \
+        vec3 L = frame * Lt;                                                                                \
+        vec3 F = FRESNEL(fr, clamp(dot(Vt, H), 0.0, 1.0));                                                  \
+        vec3 w = max(1.0 - F, 0.0);                                                                         \
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * w;                          \
+        share += w;                                                                                         \
+        vec3 Lr = reflect(-Vt, H);                                                                          \
+        if (Lr.z > 0.0)                                                                                     \
+            reflected += F * (mg_ggx_G2(Lr, Vt, alpha) / G1V);                                              \
+    }
+
 vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel fr, vec3 comp, vec3 through,
                        bool thin_walled)
 {
@@ -62,22 +82,10 @@ vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel
     vec3 sum = vec3(0.0);
     vec3 share = vec3(0.0);
     vec3 reflected = vec3(0.0);
-    for (int i = 0; i < n; ++i)
-    {
-        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
-        vec3 Lt = thin_walled ? mg_refraction_thin_shell(-Vt, H, vec3(0.0, 0.0, 1.0), ior)
-                              : mg_refraction_solid_sphere(-Vt, H, ior);
-        float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
-        vec3 L = frame * Lt;
-        vec3 F = mg_fresnel_eval(fr, clamp(dot(Vt, H), 0.0, 1.0));
-        vec3 w = max(1.0 - F, 0.0);
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * w;
-        share += w;
-        // the same sample's reflection, as the node's reflection lobe weighs it (mg_env_specular)
-        vec3 Lr = reflect(-Vt, H);
-        if (Lr.z > 0.0)
-            reflected += F * (mg_ggx_G2(Lr, Vt, alpha) / G1V);
-    }
+    if (fr.film_thickness > 0.0)
+        MG_ENV_REFRACTION_SAMPLES(mg_fresnel_film)
+    else
+        MG_ENV_REFRACTION_SAMPLES(mg_fresnel_base)
 #ifdef MG_REFRACTION_UNBOUNDED
     return sum / (float(n) * G1V);
 #else

@@ -45,14 +45,23 @@ vec3 mg_fresnel_base(MgFresnel f, float cosTheta)
     return mg_fresnel_schlick_f82(cosTheta, f.F0, f.F82, f.F90, f.exponent);
 }
 
-// Reflectance at cosTheta, through the thin film where there is one.
-vec3 mg_fresnel_eval(MgFresnel f, float cosTheta)
+// Reflectance of the curve under its thin film (film_thickness > 0) at cosTheta.
+vec3 mg_fresnel_film(MgFresnel f, float cosTheta)
 {
-    if (f.film_thickness <= 0.0)
-        return mg_fresnel_base(f, cosTheta);
     if (f.model == MG_FRESNEL_DIELECTRIC)
         return mg_thin_film_over_ior(cosTheta, f.film_ior, f.film_thickness, f.ior, vec3(0.0));
     if (f.model == MG_FRESNEL_CONDUCTOR)
         return mg_thin_film_over_ior(cosTheta, f.film_ior, f.film_thickness, f.ior, f.extinction);
     return mg_thin_film_over_schlick(cosTheta, f.film_ior, f.film_thickness, f.F0, f.F82, f.F90, f.exponent);
+}
+
+// Reflectance at cosTheta, through the thin film where there is one. A loop over samples tests the film once,
+// before it, and calls mg_fresnel_film or mg_fresnel_base in its body (the film thickness is a uniform: a test
+// in the body is paid per sample where the branches of a pixel block are run under a mask, as on llvmpipe;
+// the model needs no such care, being a constant each BSDF's call folds).
+vec3 mg_fresnel_eval(MgFresnel f, float cosTheta)
+{
+    if (f.film_thickness <= 0.0)
+        return mg_fresnel_base(f, cosTheta);
+    return mg_fresnel_film(f, cosTheta);
 }
