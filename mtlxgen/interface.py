@@ -17,6 +17,7 @@ IDENTITY = (1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0
 
 # The light record u_lightData[] holds (lights.py fills it; glsl_lib/lighting/lights.glsl reads it): type 1 point,
 # 2 directional, 3 spot (the order of lights_defs.mtlx), 0 unused; spot angles are cosines.
+LIGHT_STRUCT_NAMES = frozenset(("LightData", "MG_MAX_LIGHTS"))     # names the declarations below take
 LIGHT_DATA = (("type", "int"), ("position", "vec3"), ("direction", "vec3"), ("color", "vec3"),
               ("intensity", "float"), ("decay_rate", "float"), ("inner_angle", "float"), ("outer_angle", "float"))
 
@@ -28,10 +29,6 @@ class AppUniform:
     default: object        # a number, a tuple (vectors; matrices column-major), None: no value (samplers, structs)
     meaning: str
     length: int = 0        # array length; 0: not an array
-
-    @property
-    def declared_type(self):
-        return self.type
 
     @property
     def array_suffix(self):

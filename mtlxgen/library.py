@@ -48,7 +48,9 @@ def glsl_lib_names():
     code = re.sub(r"//[^\n]*|/\*.*?\*/", " ", "\n".join(texts), flags=re.S)
     found = re.findall(r"\bstruct\s+(\w+)|#\s*define\s+(\w+)|\bconst\s+\w+\s+(\w+)|^\s*\w+\s+(\w+)\s*\(",
                        code, flags=re.M)
-    return frozenset(n for groups in found for n in groups if n) | GLSL_BUILTIN_FUNCTIONS
+    from .interface import LIGHT_STRUCT_NAMES, TABLE
+    return frozenset(n for groups in found for n in groups if n) | GLSL_BUILTIN_FUNCTIONS | frozenset(TABLE) | \
+        LIGHT_STRUCT_NAMES
 
 
 def _read_text(path):
