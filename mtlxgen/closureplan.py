@@ -41,7 +41,9 @@ def glsl(cond, input_values):
     if cond[0] == "edge":
         return cond[2].format(**input_values(cond[1]))
     a, b = glsl(cond[1], input_values), glsl(cond[2], input_values)
-    return "%s && %s" % (a, b) if cond[0] == "and" else "(%s) || (%s)" % (a, b)
+    if cond[0] == "and":            # && binds tighter than ||: a disjunction inside a conjunction is bracketed
+        return "%s && %s" % tuple("(%s)" % s if "||" in s else s for s in (a, b))
+    return "(%s) || (%s)" % (a, b)
 
 
 class ClosurePlan:

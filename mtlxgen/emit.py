@@ -357,12 +357,18 @@ class Emitter:
             cond = static_condition(cond)
             expr, cond = (mxtypes.closure_zero(src.type), None) if cond is False else (expr, None if cond is True
                                                                                       else cond)
-        if cond is not None:
-            # GLSL evaluates only the chosen operand of ?:, so a disabled lobe is never computed
-            expr = "(%s) ? %s : %s" % (cond, expr, mxtypes.closure_zero(src.type))
         var = self.fresh("%s_%s" % (node.id, src.output))
-        self.line("%s %s = %s;" % (self.glsl_type(src.type), var, expr))
-        self.note_document_code(impl, self.body[-1:])
+        first = len(self.body)
+        if cond is None:
+            self.line("%s %s = %s;" % (self.glsl_type(src.type), var, expr))
+        else:
+            # the empty closure, replaced where the condition holds: a disabled lobe is never computed (an `if`,
+            # not `?:`, whose struct operands WebGL's validator refuses though GLSL ES 3.00 allows them)
+            self.line("%s %s = %s;" % (self.glsl_type(src.type), var, mxtypes.closure_zero(src.type)))
+            self.line("if (%s)" % cond)
+            with self.indented():
+                self.line("%s = %s;" % (var, expr))
+        self.note_document_code(impl, self.body[first:])
         self.closure_vars[key] = var
         return var
 

@@ -22,7 +22,7 @@ import shutil
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
-from .web import ASSETS, MAX_TEXTURE_PIXELS, MAX_TEXTURES_PIXELS, _html_text, _too_big, fill, webgl_source
+from .web import ASSETS, MAX_TEXTURE_PIXELS, MAX_TEXTURES_PIXELS, _html_text, _too_big, fill
 
 RUNTIME = "mtlxgen_three.js"
 ENVIRONMENT = "environment.exr"
@@ -198,8 +198,8 @@ def module_text(shader, textures):
         "",
         "export const element = %s;" % _js(shader.element),
         "export const manifest = %s;" % _js(manifest),
-        "export const vertexShader = %s;" % _js(webgl_source(shader.vertex)),
-        "export const fragmentShader = %s;" % _js(webgl_source(shader.fragment)),
+        "export const vertexShader = %s;" % _js(shader.vertex),
+        "export const fragmentShader = %s;" % _js(shader.fragment),
         "",
         "export function createMaterial(THREE, options = {}) {",
         "  return runtime.createMaterial(THREE, { manifest, vertexShader, fragmentShader, baseUrl: import.meta.url },",

@@ -211,53 +211,6 @@ def camera_payload():
             "far": c.far}
 
 
-# ---------------------------------------------------------------- WebGL's restrictions beyond GLSL ES 3.00
-
-_STRUCT = re.compile(r"\bstruct\s+(\w+)\s*\{")
-_DECLARATION = re.compile(r"^(\s*)(\w+) (\w+) = \(")
-
-
-def _closing_paren(text, start):
-    """Index of the ')' closing the '(' at text[start], or -1."""
-    depth = 0
-    for i in range(start, len(text)):
-        if text[i] == "(":
-            depth += 1
-        elif text[i] == ")":
-            depth -= 1
-            if depth == 0:
-                return i
-    return -1
-
-
-def webgl_source(source):
-    """GLSL ES 3.00 as WebGL accepts it. WebGL (ANGLE's validator) refuses `?:` whose operands are structs,
-    which GLSL ES 3.00 allows; the emitter's guarded closures are such declarations,
-    `BSDF v = (COND) ? EXPR : BSDF(...);`, each rewritten `BSDF v = BSDF(...); if (COND) v = EXPR;` (the same
-    value, EXPR still evaluated only where COND holds). Source without them comes back unchanged."""
-    structs = set(_STRUCT.findall(source))
-    if not structs:
-        return source
-    lines = source.split("\n")
-    for n, line in enumerate(lines):
-        m = _DECLARATION.match(line)
-        if not m or m.group(2) not in structs or not line.endswith(";"):
-            continue
-        indent, type_name, var = m.groups()
-        open_at = m.end() - 1
-        close_at = _closing_paren(line, open_at)
-        if close_at < 0 or not line.startswith(" ? ", close_at + 1):
-            continue
-        rest = line[close_at + 4:-1]
-        zero = type_name + "("
-        cut = rest.rfind(" : " + zero)
-        if cut < 0 or _closing_paren(rest, cut + 3 + len(type_name)) != len(rest) - 1:
-            continue
-        cond, expr, otherwise = line[open_at:close_at + 1], rest[:cut], rest[cut + 3:]
-        lines[n] = "%s%s %s = %s;\n%sif %s %s = %s;" % (indent, type_name, var, otherwise, indent, cond, var, expr)
-    return "\n".join(lines)
-
-
 # ---------------------------------------------------------------- the page
 
 def page_data(shader, environment, size, samples):
@@ -266,8 +219,8 @@ def page_data(shader, environment, size, samples):
     if m.get("target") != "essl":
         raise ValueError("the web page draws essl shaders (generate with target='essl')")
     return {
-        "element": shader.element, "stem": shader.stem, "vertex": webgl_source(shader.vertex),
-        "fragment": webgl_source(shader.fragment),
+        "element": shader.element, "stem": shader.stem, "vertex": shader.vertex,
+        "fragment": shader.fragment,
         "uniforms": m.get("uniforms", []), "application": m.get("application", []),
         "size": int(size), "samples": int(samples), "camera": camera_payload(), "environment": environment,
         "geometry": geometry_payload(m.get("attributes", {})), "textures": texture_payload(m),

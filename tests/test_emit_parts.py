@@ -59,6 +59,9 @@ def test_closure_planning_is_plain_data_over_the_graph(tmp_path):
                             lambda node_id: {"mix": "k"}) == "(k != 0.0) || (k != 1.0 && w)"
     factor = next(n for n in g.nodes if n.id == mix).inputs["mix"].uniform     # a public uniform at document level
     frag = emit.emit(g).fragment
-    # the emitter writes each lobe's planned condition, and the lobe's weight, before its ?:
-    assert "(%s != 0.0 && a_weight >= 1.0e-6) ?" % factor in frag
-    assert "(%s != 1.0 && b_weight >= 1.0e-6) ?" % factor in frag
+    # the emitter writes each lobe's planned condition, and the lobe's weight, as the `if` that computes it
+    assert "if (%s != 0.0 && a_weight >= 1.0e-6)" % factor in frag
+    assert "if (%s != 1.0 && b_weight >= 1.0e-6)" % factor in frag
+    # a disjunction of uses, conjoined with a weight, keeps its brackets (&& binds tighter than ||)
+    assert closureplan.glsl(closureplan.conjoin(closureplan.disjoin(conds[a], conds[b]), "w"),
+                            lambda node_id: {"mix": "k"}) == "((k != 0.0) || (k != 1.0)) && w"

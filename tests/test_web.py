@@ -185,7 +185,7 @@ def test_every_project_element_is_valid_webgl(browser):
                 }
                 gl.linkProgram(p);
                 return gl.getProgramParameter(p, gl.LINK_STATUS) ? '' : 'link: ' + gl.getProgramInfoLog(p);
-            }""", [web.webgl_source(s.vertex), web.webgl_source(s.fragment)])
+            }""", [s.vertex, s.fragment])
             if log:
                 failures.append("%s: %s" % (name, log.strip().splitlines()[0]))
         assert not failures, "%d of %d refused:\n%s" % (len(failures), len(shaders), "\n".join(failures[:20]))
@@ -210,20 +210,6 @@ def test_mip_chain_is_what_opengl_builds(renderer, shape):
             np.testing.assert_allclose(level, gl, rtol=1e-5, atol=1e-6, err_msg="level %d" % i)
     finally:
         tex.release()
-
-
-def test_webgl_source_rewrites_struct_selections():
-    src = ("struct BSDF { vec3 response; vec3 throughput; };\n"
-           "void main() {\n"
-           "    BSDF a = (w >= 1.0e-6 && (m != 0.0)) ? f(x, (y ? 1.0 : 2.0)) : BSDF(vec3(0.0), vec3(1.0));\n"
-           "    float b = (w > 0.0) ? 1.0 : 2.0;\n"
-           "}\n")
-    out = web.webgl_source(src)
-    assert ("    BSDF a = BSDF(vec3(0.0), vec3(1.0));\n"
-            "    if (w >= 1.0e-6 && (m != 0.0)) a = f(x, (y ? 1.0 : 2.0));") in out
-    assert "float b = (w > 0.0) ? 1.0 : 2.0;" in out          # not a struct: as it was
-    plain = "void main() { float b = (w > 0.0) ? 1.0 : 2.0; }\n"
-    assert web.webgl_source(plain) == plain
 
 
 def test_page_text_from_a_document_is_inert():
