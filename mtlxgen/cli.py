@@ -11,6 +11,7 @@ import sys
 
 from . import is_usd
 from .diagnostics import Loc, MtlxError, Warnings
+from .interface import LIGHTS_LIMIT
 from .targets import NAMES as TARGET_NAMES
 
 
@@ -181,7 +182,10 @@ def _generate(args):
 
 def _session_options(args):
     """How shaders are generated, beyond the document: pipeline.Session keywords from the options."""
-    return {"target": args.target, "interface": _interface(args)}
+    lights = args.max_lights
+    if lights is None:              # render --lights RIG: as many as the rig holds
+        lights = len(args.rig) if getattr(args, "rig", None) else 0
+    return {"target": args.target, "interface": _interface(args), "max_lights": lights}
 
 
 def _interface(args):
@@ -210,11 +214,14 @@ def cmd_render(args):
     from . import render
     if args.geometry == "stage" and _usd_options(args) is None:
         raise MtlxError((Loc(args.file, 0), "--geometry stage draws a USD stage's meshes; this is a MaterialX document"))
+    from .lights import load_light_rig
+    lights = args.rig = load_light_rig(args.lights) if args.lights else ()
+    if args.max_lights is not None and args.max_lights < len(lights):
+        raise MtlxError((Loc(args.lights, 0), "the light rig holds %d lights; --max-lights %d cannot draw them"
+                         % (len(lights), args.max_lights)))
     # elements with problems are reported, the others drawn (as generate writes them)
     shaders, error = _generate(args)
     env = render.load_environment(args.env) if args.env else None
-    from .lights import load_light_rig
-    lights = load_light_rig(args.lights) if args.lights else ()
     problems = list(error.problems) if error is not None else []
     with render.Renderer(size=args.size, environment=env, lights=lights) as r:
         for s in shaders:
@@ -483,6 +490,9 @@ def build_parser():
     def generation(p):
         """Options of how shaders are generated (_session_options), for every command that generates."""
         shader_interface(p)
+        p.add_argument("--max-lights", type=_int_in(0, LIGHTS_LIMIT), default=None, metavar="N",
+                       help="lit surfaces loop over up to N direct lights bound to u_lightData[] (0 to %d; default 0: "
+                            "no light loop, the environment alone; render --lights: the rig's count)" % LIGHTS_LIMIT)
         p.add_argument("--target", choices=TARGET_NAMES, default="glsl",
                        help="shading language: glsl = desktop GLSL 4.00 (default), essl = GLSL ES 3.00 for WebGL2 "
                             "(no uniform initializers: the manifest's values and \"application\" defaults are bound), "

@@ -133,12 +133,12 @@ def lib_file_uniforms(rel):
     return _FILE_UNIFORMS[rel]
 
 
-def interface_declarations(names, target="glsl"):
+def interface_declarations(names, target="glsl", max_lights=interface.MAX_LIGHTS):
     """GLSL declarations of the named application uniforms for a target without a uniform block (what a
     stage or a test assembling glsl_lib files by hand puts before the files): the light record, then the
     uniforms in name order."""
     t = targets.get(target)
-    lines = interface.types_needed(names)
+    lines = interface.types_needed(names, max_lights)
     for name in sorted(names):
         u = interface.TABLE[name]
         init = interface.glsl_value(u) if t.initializers else None
@@ -162,7 +162,7 @@ _ENVIRONMENT_DEFINES = {"fis": [], "prefiltered": ["MG_ENV_PREFILTERED", "MG_REF
 class Emitter:
     stage = "fragment"                # the stage its code goes to (VertexEmitter: "vertex")
 
-    def __init__(self, graph, environment="fis", target="glsl"):
+    def __init__(self, graph, environment="fis", target="glsl", max_lights=0):
         if environment not in ENVIRONMENT_METHODS:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
         # the emitter's own view of the graph: the public uniforms are its own table, which emission may
@@ -171,6 +171,7 @@ class Emitter:
         self.graph.uniforms = dict(graph.uniforms)
         self.environment = environment
         self.target = targets.get(target)
+        self.max_lights = int(max_lights)   # u_lightData's length; 0: lit surfaces have no light loop
         self.files = []               # glsl_lib files in emission order
         self.external = []            # (path, text) of document-supplied GLSL
         self.streams = {}             # name -> Stream, in first-use order
@@ -587,11 +588,13 @@ class Emitter:
             "attributes": dict(vertex.attributes),
             "uniforms": [self.manifest_uniform(u, decl) for u in g.uniforms.values() if u.type != "filename"],
             "textures": [self.manifest_texture(u, decl) for u in g.uniforms.values() if u.type == "filename"],
-            "application": [interface.manifest_entry(interface.TABLE[n]) for n in sorted(decl.app_names)],
+            "application": [interface.manifest_entry(interface.TABLE[n], self.max_lights)
+                            for n in sorted(decl.app_names)],
         }
         manifest.update(decl.manifest())
         if lit:
             manifest["environment"] = self.environment
+            manifest["max_lights"] = self.max_lights
         if self.primvars:
             manifest["primvars"] = self.primvars
         code = self.document_code + (vertex_emitter.document_code if vertex_emitter is not None else [])
@@ -703,7 +706,7 @@ class Declarations:
             for name in sorted(self.app_names):
                 u = interface.TABLE[name]
                 if u.type not in interface.SAMPLER_TYPES:
-                    self.block.append((name, u.type, u.length))
+                    self.block.append((name, u.type, em.max_lights if name == "u_lightData" else u.length))
             for u in material:
                 if u.type != "filename":
                     t, length, _ = em.uniform_parts(u)
@@ -726,14 +729,14 @@ class Declarations:
         for name in struct_order([t for t in g.structs if t in types], g.structs):
             lines.append("struct %s { %s };" % (name, " ".join(
                 "%s %s;" % (mxtypes.glsl_type(mt, g.structs), mn) for mn, mt, _ in g.structs[name].members)))
-        return lines + interface.types_needed(app_names)
+        return lines + interface.types_needed(app_names, self.em.max_lights)
 
     def uniforms(self, stage, app_names, material, used_types):
         """The struct types and uniforms of one stage: application uniforms `app_names`, the material's
         `material` (graph Uniforms). With a block, every stage declares the whole block."""
         if not self.target.uniform_block:
             lines = self.struct_lines(used_types, ())      # interface_declarations has the light record
-            lines += interface_declarations(app_names, self.target.name)
+            lines += interface_declarations(app_names, self.target.name, self.em.max_lights)
             for u in material:
                 t, length, init = self.em.uniform_parts(u)
                 suffix = "[%d]" % length if length else ""
@@ -844,5 +847,7 @@ def _is_plain_name(e):
     return e.replace("_", "a").isalnum() and not e[0].isdigit() and e not in ("true", "false")
 
 
-def emit(graph, environment="fis", target="glsl"):
-    return Emitter(graph, environment, target).emit()
+def emit(graph, environment="fis", target="glsl", max_lights=0):
+    """The Shader of a graph. max_lights: how many direct lights (u_lightData) lit surfaces loop over; 0 (the
+    default) writes no light loop: environment light only."""
+    return Emitter(graph, environment, target, max_lights).emit()

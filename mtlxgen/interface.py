@@ -10,7 +10,9 @@ handler asks for one with Emitter.app_uniform; a stream's vertex expression list
 """
 from dataclasses import dataclass
 
-MAX_LIGHTS = 8          # u_lightData's length (MG_MAX_LIGHTS in the GLSL)
+MAX_LIGHTS = 8          # u_lightData's length (MG_MAX_LIGHTS in the GLSL) where a shader is asked for lights
+                        # without a number (the viewer's rig); a shader takes as many as --max-lights says
+LIGHTS_LIMIT = 16       # the most a shader takes: 16 records are 80 vec4 uniforms, within GL 4's fragment limit
 
 ENV_MATRIX = (-1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0)
 IDENTITY = (1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0)
@@ -59,11 +61,11 @@ TABLE = {u.name: u for u in [
 SAMPLER_TYPES = ("sampler2D",)
 
 
-def types_needed(names):
+def types_needed(names, max_lights=MAX_LIGHTS):
     """GLSL declarations the named uniforms' types need before them (the light record and its length)."""
     if "u_lightData" not in names:
         return []
-    return ["#define MG_MAX_LIGHTS %d" % MAX_LIGHTS,
+    return ["#define MG_MAX_LIGHTS %d" % max_lights,
             "struct LightData { %s };" % " ".join("%s %s;" % (t, n) for n, t in LIGHT_DATA)]
 
 
@@ -86,9 +88,9 @@ def _float(x):
     return r if ("." in r or "e" in r) else r + ".0"
 
 
-def manifest_entry(u):
+def manifest_entry(u, max_lights=MAX_LIGHTS):
     """The manifest's record of an application uniform: name, GLSL type, default, meaning."""
-    entry = {"name": u.name, "type": u.type + u.array_suffix.replace("MG_MAX_LIGHTS", str(MAX_LIGHTS)),
+    entry = {"name": u.name, "type": u.type + u.array_suffix.replace("MG_MAX_LIGHTS", str(max_lights)),
              "default": list(u.default) if isinstance(u.default, tuple) else u.default, "meaning": u.meaning}
     if u.name == "u_lightData":
         entry["members"] = [{"name": n, "type": t} for n, t in LIGHT_DATA]

@@ -10,7 +10,7 @@ from .diagnostics import Loc, MtlxError
 LIGHT_TYPES = {"point_light": 1, "directional_light": 2, "spot_light": 3}
 _DEFAULTS = {"position": (0.0, 0.0, 0.0), "direction": (0.0, 0.0, -1.0), "color": (1.0, 1.0, 1.0),
              "intensity": 1.0, "decay_rate": 2.0, "inner_angle": 1.0, "outer_angle": 1.0}
-MAX_LIGHTS = 8          # MG_MAX_LIGHTS
+from .interface import LIGHTS_LIMIT as MAX_LIGHTS     # a rig's lights: at most what a shader takes
 
 
 def load_light_rig(path):

@@ -41,8 +41,9 @@ class Session:
     warnings raises where it is built (nothing of it written)."""
 
     def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None, environment="fis",
-                 usd_options=None, strict=False, warnings=None, target="glsl", interface=None):
+                 usd_options=None, strict=False, warnings=None, target="glsl", interface=None, max_lights=0):
         self.path = path
+        self.max_lights = int(max_lights)
         from .reduce import Interface
         self.interface = interface if isinstance(interface, Interface) else Interface(interface or "complete")
         self.environment = environment
@@ -99,7 +100,8 @@ class Session:
             from . import fold, reduce
             g, kept = reduce.reduce(g, self.interface)
             g = fold.fold(g)
-        shader = glslcheck.check(emit.emit(g, environment=self.environment, target=self.target))
+        shader = glslcheck.check(emit.emit(g, environment=self.environment, target=self.target,
+                                           max_lights=self.max_lights))
         shader.manifest["interface"] = self.interface.kind
         if kept is not None:
             shader.manifest["kept"] = kept
@@ -120,7 +122,7 @@ class Session:
 
 @gc_paused()       # hundreds of thousands of objects, no cycles: the collector only slows a large graph 2-3x
 def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis",
-             usd_options=None, strict=False, warnings=None, target="glsl", interface=None):
+             usd_options=None, strict=False, warnings=None, target="glsl", interface=None, max_lights=0):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
 
     usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
@@ -134,6 +136,9 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
     target: "glsl" (desktop GLSL 4.00), "essl" (WebGL2's GLSL ES 3.00) or "vulkan" (GLSL 4.50 for SPIR-V):
     targets.py.
 
+    max_lights: how many direct lights (u_lightData[]) lit surfaces take; 0 (default): no light loop, the
+    environment alone (a renderer binding lights needs shaders generated for them: --lights, --max-lights).
+
     interface: "complete" (default: every public input a uniform), "reduced" or a reduce.Interface (the reduced
     interface with inputs kept editable): reduce.py. A kept name that names no input of the elements generated is
     a problem.
@@ -142,7 +147,7 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
     session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options, strict, warnings,
-                      target, interface)
+                      target, interface, max_lights)
     problems, shaders = Problems(), []
     for loc, message in session.notes():
         problems.add(loc, message)

@@ -567,6 +567,12 @@ class Renderer:
         for name, value in scalars.items():
             prepared.set(name, value)
         lights = self.lights if lights is None else lights
+        if lights and prepared.manifest.get("max_lights", len(lights)) < len(lights):
+            from .diagnostics import Loc, MtlxError
+            raise MtlxError((Loc(prepared.manifest.get("element", "shader"), 0),
+                             "generated for %d direct lights, %d bound: generate it with max_lights=%d "
+                             "(--max-lights, or render --lights RIG)" % (prepared.manifest["max_lights"], len(lights),
+                                                                         len(lights))))
         if lights:
             from .lights import bind_lights
             bind_lights(prepared, lights)

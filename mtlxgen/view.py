@@ -106,8 +106,10 @@ class OurGenerator:
     """mtlxgen's pipeline as the viewer drives it: open() reads a document (a pipeline.Session), shader()
     generates one element. Another generator (a benchmark's MaterialX one) offers the same four methods."""
 
-    def __init__(self, library_dirs=(), usd_options=None, strict=False, usd_seed_rules=None, interface=None):
+    def __init__(self, library_dirs=(), usd_options=None, strict=False, usd_seed_rules=None, interface=None,
+                 max_lights=0):
         self.library_dirs = tuple(library_dirs)
+        self.max_lights = max_lights        # a light rig given: its shaders loop over lights (pipeline.generate)
         self.interface = interface          # None / "complete", "reduced" or a reduce.Interface (--interface)
         self.usd_options = usd_options
         self.strict = strict
@@ -118,7 +120,7 @@ class OurGenerator:
         from .diagnostics import Warnings
         warnings = Warnings()
         session = pipeline.Session(path, None, self.library_dirs, self.usd_seed_rules, environment, self.usd_options,
-                                   self.strict, warnings, interface=self.interface)
+                                   self.strict, warnings, interface=self.interface, max_lights=self.max_lights)
         session.warning_list = warnings
         return session
 
@@ -392,7 +394,10 @@ class Viewer:
         self.display_path = path
         self.out = out or sys.stderr
         self.size = tuple(size)
-        self.generator = generator or OurGenerator()
+        from .interface import LIGHTS_LIMIT
+        # with a rig, shaders take as many lights as a rig may hold (the rig file is watched and may grow); the
+        # loop runs over the bound ones only, so the bound costs the array's size, not time
+        self.generator = generator or OurGenerator(max_lights=LIGHTS_LIMIT if lights_file else 0)
         self.environment_method = environment_method
         self.env_file = os.path.abspath(env_file) if env_file else None
         self.lights_file = os.path.abspath(lights_file) if lights_file else None
@@ -1085,8 +1090,9 @@ def run(args):
     size = tuple(args.size)
     headless = args.headless_frames is not None
     window = open_window(size, headless)
+    from .interface import LIGHTS_LIMIT
     generator = OurGenerator(args.library, getattr(args, "usd_options", None), args.strict, args.usd_seed_rules,
-                             getattr(args, "shader_interface", None))
+                             getattr(args, "shader_interface", None), LIGHTS_LIMIT if args.lights else 0)
     viewer = None
     try:
         viewer = Viewer(window.ctx, args.file, size=window.framebuffer_size() if not headless else size,

@@ -90,7 +90,7 @@ def test_a_directional_light_on_a_lambert_sphere_gives_n_dot_l_albedo_over_pi(tm
              "intensity": intensity, "decay_rate": 2.0, "inner_angle": 1.0, "outer_angle": 1.0}
     size = 128
     with Renderer(size=size, environment=np.zeros((8, 16, 3), np.float32), lights=[light]) as r:
-        img = r.render(pipeline.generate(path)[0])
+        img = r.render(pipeline.generate(path, max_lights=1)[0])
     N, mask = sphere_geometry(size)
     L = -direction / np.linalg.norm(direction)
     expected = np.clip((N * L).sum(-1), 0.0, None)[..., None] * albedo / np.pi * intensity
@@ -128,7 +128,7 @@ def test_every_bsdf_lit_by_the_rig_is_finite_and_brighter_where_the_light_reache
     than a tenth of what it adds where it can (subsurface's wrap lighting reaches a little past the terminator)."""
     dark_r, lit_r, lights = rig_renderers
     assert len(lights) == 1 and lights[0]["type"] == 2       # one directional light: N.L says where it reaches
-    shader = pipeline.generate(bsdf_doc(tmp_path, BSDFS[name]))[0]
+    shader = pipeline.generate(bsdf_doc(tmp_path, BSDFS[name]), max_lights=len(lights))[0]
     dark, lit = dark_r.render(shader), lit_r.render(shader)
     assert np.isfinite(lit).all() and np.isfinite(dark).all()
     N, inside = sphere_geometry(RIG_SIZE)

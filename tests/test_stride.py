@@ -254,7 +254,7 @@ def string_input(name, value):
 
 
 def main_of(tmp_path, inputs=""):
-    s = pipeline.generate(material(tmp_path, inputs))[0]
+    s = pipeline.generate(material(tmp_path, inputs), max_lights=1)[0]      # the light loop's code is inspected too
     return s.fragment[s.fragment.index("void main()"):], s
 
 
@@ -396,7 +396,7 @@ def test_direct_light_matches_numpy(tmp_path):
     <input name="glossiness" type="float" value="0.35" />"""
     black = np.zeros((16, 32, 3), np.float32)
     with Renderer(size=size, environment=black) as r:
-        img = r.render(with_light(pipeline.generate(material(tmp_path, inputs))[0]))
+        img = r.render(with_light(pipeline.generate(material(tmp_path, inputs), max_lights=1)[0]))
     hit, N, V = sphere_geometry(size)
     L = np.array([0.0, 0.0, 1.0])
     H = (L + V) / np.linalg.norm(L + V, axis=-1, keepdims=True)
@@ -426,7 +426,7 @@ def test_cel_shading_quantizes_the_direct_light(tmp_path):
     levels = {"default": [0.0, 0.3, 0.8, 1.0], "black_white": [0.0, 1.0]}
     with Renderer(size=64, environment=black) as r:
         for ramp, allowed in levels.items():
-            shader = pipeline.generate(material(tmp_path, base + string_input("cel_ramp", ramp)))[0]
+            shader = pipeline.generate(material(tmp_path, base + string_input("cel_ramp", ramp)), max_lights=1)[0]
             img = r.render(with_light(shader, (1.0, 0.2, 0.6)))      # from the side: NL spans [0, 1]
             v = img[..., 0][img[..., 3] > 0] * np.pi
             assert np.abs(v[:, None] - np.array(allowed)[None]).min(1).max() < 1e-4, ramp
@@ -474,7 +474,7 @@ def test_stride_examples_generate():
     folder = os.path.join(ROOT, "examples", "stride")
     files = sorted(f for f in os.listdir(folder) if f.endswith(".mtlx"))
     assert len(files) >= 3
-    shaders = [s for f in files for s in pipeline.generate(os.path.join(folder, f))]
+    shaders = [s for f in files for s in pipeline.generate(os.path.join(folder, f), max_lights=1)]  # the loop too
     used = {v for s in shaders for v in re.findall(r"mg_stride_(?:vis|ndf|fresnel)_(\w+)\(",
                                                        s.fragment[s.fragment.index("void main()"):])}
     assert set(VISIBILITY) | set(NDF) | {"schlick", "none"} <= used

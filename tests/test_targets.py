@@ -43,7 +43,7 @@ def test_every_target_draws_the_pixels_of_the_default_one(doc, lit_renderer):
     path = os.path.join(ROOT, doc)
     images = {}
     for target in targets.NAMES:
-        shaders, error = pipeline.generate(path, partial=True, target=target)
+        shaders, error = pipeline.generate(path, partial=True, target=target, max_lights=2)
         assert error is None, error
         for s in shaders:
             assert s.manifest["target"] == target
@@ -57,7 +57,7 @@ def test_every_target_draws_the_pixels_of_the_default_one(doc, lit_renderer):
 
 def test_the_light_is_drawn_through_the_block(lit_renderer):
     """Not vacuous: the lights change the picture, so the equality above covers the packed light records."""
-    s = pipeline.generate(os.path.join(OWN, "interface_types.mtlx"), target="vulkan")[0]
+    s = pipeline.generate(os.path.join(OWN, "interface_types.mtlx"), target="vulkan", max_lights=2)[0]
     with Renderer(size=SIZE) as unlit:
         assert np.abs(lit_renderer.render(s) - unlit.render(s)).max() > 0.05
 
@@ -90,12 +90,12 @@ def test_each_target_spells_its_header_and_declarations():
 
 
 def test_manifest_lists_the_application_uniforms_with_the_tables_defaults():
-    s = pipeline.generate(os.path.join(ROOT, "examples", "quick_start.mtlx"), target="essl")[0]
+    s = pipeline.generate(os.path.join(ROOT, "examples", "quick_start.mtlx"), target="essl", max_lights=3)[0]
     app = {e["name"]: e for e in s.manifest["application"]}
     assert {"u_worldMatrix", "u_viewProjectionMatrix", "u_viewPosition", "u_envMatrix", "u_envRadiance",
             "u_envRadianceMips", "u_envRadianceSamples", "u_numActiveLightSources", "u_lightData"} <= set(app)
     assert app["u_envMatrix"]["default"] == list(interface.ENV_MATRIX)
-    assert app["u_lightData"]["type"] == "LightData[%d]" % interface.MAX_LIGHTS
+    assert app["u_lightData"]["type"] == "LightData[3]" and s.manifest["max_lights"] == 3
     # every uniform either stage declares is in the manifest: the material's or the application's
     declared = {re.search(r"(\w+)(\[\w+\])?;$", d).group(1) for d in _declarations(s.vertex + s.fragment)}
     listed = set(app) | {u["name"] for u in s.manifest["uniforms"]} | {t["uniform"] for t in s.manifest["textures"]}
@@ -171,3 +171,65 @@ def test_std140_layout_rules():
                                               ("s", 144), ("last", 208)]
     assert dict((n, s) for n, _, s in layout)["arr"] == 16 and dict((n, s) for n, _, s in layout)["s"] == 32
     assert size == 224
+
+
+# ---------------------------------------------------------------- the light loop, only where lights are asked for
+
+QUICK = os.path.join(ROOT, "examples", "quick_start.mtlx")
+
+
+@pytest.mark.parametrize("doc", ["examples/quick_start.mtlx", "examples/stride/stride_metalness.mtlx",
+                                 "examples/enterprise/enterprise_car_paint.mtlx"])
+def test_lit_surfaces_loop_over_lights_only_when_asked(doc, lit_renderer):
+    """Without lights asked for, a lit surface has no light loop and declares no light uniforms (issue 14: the
+    loop and its uniforms cost compile time for nothing); with max_lights N, MG_MAX_LIGHTS is N, the manifest
+    says so, and the lights change the picture. Environment-lit, the two draw the same pixels."""
+    path = os.path.join(ROOT, doc)
+    bare = pipeline.generate(path)[0]
+    assert "u_lightData" not in bare.fragment and "mg_sample_light" not in bare.fragment
+    assert "LightData" not in bare.fragment and bare.manifest["max_lights"] == 0
+    assert not any(e["name"] in ("u_lightData", "u_numActiveLightSources") for e in bare.manifest["application"])
+    lit = pipeline.generate(path, max_lights=2)[0]
+    assert "#define MG_MAX_LIGHTS 2" in lit.fragment and "mg_sample_light(u_lightData[mg_i]" in lit.fragment
+    assert lit.manifest["max_lights"] == 2
+    with Renderer(size=SIZE) as env_only:
+        assert np.abs(env_only.render(bare) - env_only.render(lit)).max() <= 1e-6
+    assert np.abs(lit_renderer.render(lit) - env_only_render(lit)).max() > 0.01
+
+
+def env_only_render(shader):
+    with Renderer(size=SIZE) as r:
+        return r.render(shader)
+
+
+def test_binding_more_lights_than_a_shader_takes_is_an_error(lit_renderer, tmp_path):
+    """A renderer with lights refuses a lit shader generated for fewer (it would drop them silently)."""
+    with pytest.raises(MtlxError) as e:
+        lit_renderer.render(pipeline.generate(QUICK)[0])
+    assert "generated for 0 direct lights, 2 bound" in str(e.value.lines())
+    unlit = pipeline.generate(os.path.join(ROOT, "examples", "unlit_checker.mtlx"))[0]
+    assert lit_renderer.render(unlit)[..., 3].max() > 0          # an unlit shader takes no lights: drawn as it is
+
+
+def test_cli_max_lights_and_render_lights(tmp_path):
+    cli = [sys.executable, os.path.join(ROOT, "cli.py")]
+    r = subprocess.run(cli + ["generate", QUICK, "-o", str(tmp_path / "g"), "--max-lights", "4"], capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stderr
+    assert json.loads((tmp_path / "g" / "M_tiles.json").read_text())["max_lights"] == 4
+    assert "#define MG_MAX_LIGHTS 4" in (tmp_path / "g" / "M_tiles.frag").read_text()
+    for bad in ("-1", "17", "two"):
+        r = subprocess.run(cli + ["generate", QUICK, "-o", str(tmp_path / "g"), "--max-lights", bad],
+                           capture_output=True, text=True)
+        assert r.returncode == 1 and "--max-lights" in r.stderr and "Traceback" not in r.stderr
+    rig = os.path.join(ROOT, "tests", "data", "materialx", "resources", "Lights", "san_giuseppe_bridge_split.mtlx")
+    for lights in ([], ["--lights", rig]):
+        r = subprocess.run(cli + ["render", QUICK, "-o", str(tmp_path / ("r%d" % len(lights))), "--size", "32"]
+                           + lights, capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+    from mtlxgen.images import read_image
+    dark, lit = (read_image(str(tmp_path / d / "M_tiles.exr")) for d in ("r0", "r2"))
+    assert np.abs(lit - dark).max() > 0.01, "render --lights draws the rig's light"
+    r = subprocess.run(cli + ["render", QUICK, "-o", str(tmp_path / "r"), "--lights", rig, "--max-lights", "0"],
+                       capture_output=True, text=True)
+    assert r.returncode == 1 and "--max-lights 0" in r.stderr and len(r.stderr.strip().splitlines()) == 1

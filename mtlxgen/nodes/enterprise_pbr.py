@@ -18,7 +18,7 @@ it a non-zero value, to keep the layer adjustable at run time.
 
 The energy tables are glsl_lib/enterprise/tables.glsl, written by tools/enterprise_tables.py.
 """
-from .lit_surface import light_loop, lit_surface
+from .lit_surface import light_loop, lit_surface, takes_lights
 
 FILES = ["enterprise/enterprise_pbr.glsl"]
 
@@ -57,9 +57,10 @@ def enterprise_pbr(node, em):
         em.line("mg_m.P = mg_P;")
         em.line("mg_m.footprint = length(fwidth(mg_P));")
         em.line("MgEpbrLobes mg_k = mg_epbr_lobes(mg_m);")
-        with light_loop(em):
-            em.line("%s.color += mg_light * mg_epbr_bsdf(mg_m, mg_k, mg_L, mg_V) * abs(dot(mg_k.frame[2], mg_L));"
-                    % out)
+        if takes_lights(em):
+            with light_loop(em):
+                em.line("%s.color += mg_light * mg_epbr_bsdf(mg_m, mg_k, mg_L, mg_V) * abs(dot(mg_k.frame[2], "
+                        "mg_L));" % out)
         em.line("%s.color += mg_epbr_environment(mg_m, mg_k, mg_V);" % out)
         em.line("%s.color += mg_epbr_emission(mg_m, mg_k, mg_V);" % out)
         em.line("float mg_opacity = clamp(%s, 0.0, 1.0);" % i("cutoutOpacity"))

@@ -9,7 +9,7 @@
         vec3 mg_L = vec3(0.0);          // towards the light (set by the light loop, or by a model's sampling)
         ... the model's own lines
         for (int mg_i = 0; mg_i < min(u_numActiveLightSources, MG_MAX_LIGHTS); ++mg_i)
-        {                               // light_loop: closures evaluated in "reflection"
+        {                               // light_loop, where the shader takes lights (em.max_lights > 0)
             vec3 mg_light;
             mg_sample_light(u_lightData[mg_i], mg_P, mg_L, mg_light);
             ... the model's response to one light
@@ -19,7 +19,7 @@
 """
 from contextlib import contextmanager
 
-LIGHTING_FILES = ["closures.glsl", "lighting/environment.glsl", "lighting/lights.glsl"]
+LIGHTING_FILES = ["closures.glsl", "lighting/environment.glsl"]
 
 
 @contextmanager
@@ -42,10 +42,18 @@ def lit_surface(em, stem, files=(), comment=None, normal=None):
     em.close_block()
 
 
+def takes_lights(em):
+    """Whether the shader loops over direct lights: it was asked for (--lights, --max-lights N: em.max_lights).
+    Without, a lit surface is lit by the environment alone and declares no light uniforms."""
+    return em.max_lights > 0
+
+
 @contextmanager
 def light_loop(em):
-    """The loop over the active lights (lighting/lights.glsl): inside, mg_L is the direction to the light and
-    mg_light the light arriving at mg_P; closures are evaluated in the "reflection" context."""
+    """The loop over the active lights (lighting/lights.glsl), for a shader that takes_lights: inside, mg_L is
+    the direction to the light and mg_light the light arriving at mg_P; closures are evaluated in the
+    "reflection" context."""
+    em.require("lighting/lights.glsl")
     em.line("for (int mg_i = 0; mg_i < min(u_numActiveLightSources, MG_MAX_LIGHTS); ++mg_i)")
     em.open_block("reflection")
     em.line("vec3 mg_light;")

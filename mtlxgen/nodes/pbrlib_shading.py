@@ -7,7 +7,7 @@ for each direct light (mg_L is the direction to the light), "indirect" for the e
 mg_occlusion, and in "transmission" mg_thin_walled (the surface is a thin shell: what is seen through it
 is not bent by a solid interior). Opacity scales the colour and blends the transparency towards 1.
 """
-from .lit_surface import light_loop, lit_surface
+from .lit_surface import light_loop, lit_surface, takes_lights
 
 
 def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface", thin_walled="false"):
@@ -15,8 +15,9 @@ def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface", thin_walled="f
     with lit_surface(em, stem) as out:
         em.line("float mg_occlusion = 1.0;")
         if bsdf is not None and bsdf.linked:
-            with light_loop(em):
-                em.line("%s.color += mg_light * %s.response;" % (out, em.closure(bsdf, "reflection")))
+            if takes_lights(em):
+                with light_loop(em):
+                    em.line("%s.color += mg_light * %s.response;" % (out, em.closure(bsdf, "reflection")))
             em.open_block("indirect", "environment")
             em.line("%s.color += mg_occlusion * %s.response;" % (out, em.closure(bsdf, "indirect")))
             em.close_block()

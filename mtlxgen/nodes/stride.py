@@ -19,7 +19,7 @@ every lit shading model shares (lit_surface.py):
   lets its view-based transmittance through as transparency.
 """
 from ..diagnostics import MtlxError
-from .lit_surface import light_loop, lit_surface
+from .lit_surface import light_loop, lit_surface, takes_lights
 
 FILES = ["stride/fresnel.glsl", "stride/visibility.glsl", "stride/ndf.glsl", "stride/diffuse.glsl",
          "stride/environment.glsl"]
@@ -103,16 +103,17 @@ def _stride_body(node, em, out, i, diffuse_model, cel_ramp, workflow, fresnel, v
         em.line("vec3 mg_transmittance;")
         em.line("vec3 mg_glass = mg_stride_thin_glass(mg_f0, mg_NV, %s, mg_transmittance);" % i("ior"))
 
-    with light_loop(em):
-        em.line("vec3 mg_H = mg_L + mg_V;")
-        em.line("mg_H /= max(length(mg_H), 1.0e-6);")
-        _specular_terms(em, fresnel, vis, ndf)
-        if diffuse_model == "lambert":
-            em.line("%s.color += mg_diffuse / MG_PI * mg_light * mg_NL;" % out)
-        elif diffuse_model == "cel_shading":
-            ramp = CEL_RAMP[cel_ramp].format(x="mg_NL", sampler=sampler)
-            em.line("%s.color += mg_diffuse / MG_PI * mg_light * %s;" % (out, ramp))
-        em.line("%s.color += mg_F * (mg_Vis * mg_D / 4.0) * mg_light * mg_NL;" % out)
+    if takes_lights(em):
+        with light_loop(em):
+            em.line("vec3 mg_H = mg_L + mg_V;")
+            em.line("mg_H /= max(length(mg_H), 1.0e-6);")
+            _specular_terms(em, fresnel, vis, ndf)
+            if diffuse_model == "lambert":
+                em.line("%s.color += mg_diffuse / MG_PI * mg_light * mg_NL;" % out)
+            elif diffuse_model == "cel_shading":
+                ramp = CEL_RAMP[cel_ramp].format(x="mg_NL", sampler=sampler)
+                em.line("%s.color += mg_diffuse / MG_PI * mg_light * %s;" % (out, ramp))
+            em.line("%s.color += mg_F * (mg_Vis * mg_D / 4.0) * mg_light * mg_NL;" % out)
 
     # environment
     em.open_block("indirect", "environment: Lambert irradiance and the specular lobe, importance-sampled")
