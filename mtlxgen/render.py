@@ -560,9 +560,11 @@ class Renderer:
             mats["u_envMatrix"] = np.array(self.scene.env_matrix)
         for name, m in mats.items():
             prepared.set(name, np.ascontiguousarray(m.T, dtype="f4").tobytes())
+        from .interface import TABLE        # the application interface: what is bound here, and the defaults
         scalars = {"u_viewPosition": tuple(float(x) for x in camera.eye), "u_envRadianceMips": self.env_mips,
                    "u_envRadianceSamples": self.env_samples if env_samples is None else env_samples,
-                   "u_envLightIntensity": 1.0, "u_numActiveLightSources": 0,
+                   "u_envLightIntensity": TABLE["u_envLightIntensity"].default,
+                   "u_numActiveLightSources": TABLE["u_numActiveLightSources"].default,
                    "u_envSampleFrame": int(sample_frame[0]), "u_envSampleFrames": int(sample_frame[1])}
         for name, value in scalars.items():
             prepared.set(name, value)
