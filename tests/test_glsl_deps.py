@@ -284,16 +284,17 @@ def test_reachable_code_draws_the_pixels_of_whole_files(renderer, monkeypatch, p
 @pytest.mark.parametrize("rel, loop", [("lighting/environment_specular.glsl", "mg_env_specular_samples"),
                                        ("lighting/environment_refraction.glsl", "mg_env_refraction_samples")])
 def test_environment_sample_loops_test_the_film_before_the_loop(rel, loop):
-    """The film thickness (a uniform) is tested once per lobe: the loop reads the Fresnel curve a constant `film`
-    argument picks (the film's or the bare one), never mg_fresnel_eval, which tests the thickness, and its caller
-    calls it once with each constant behind one test."""
+    """The film thickness (a uniform) is tested once per lobe: the loop is a function per Fresnel curve (the film's,
+    the bare one), made by one macro, that never calls mg_fresnel_eval (which tests the thickness), and the caller
+    calls one of them behind one test."""
     lf = lib(rel)
-    body = [it for it in lf.items if it.names == {loop}]
-    assert len(body) == 1 and "for" in body[0].uses
-    assert {"mg_fresnel_film", "mg_fresnel_base"} <= body[0].uses
-    assert not {"mg_fresnel_eval", "film_thickness"} & body[0].uses
-    caller = [it for it in lf.items if loop in it.uses]
-    assert len(caller) == 1
+    for suffix, curve, other in (("_film", "mg_fresnel_film", "mg_fresnel_base"),
+                                 ("_bare", "mg_fresnel_base", "mg_fresnel_film")):
+        body = [it for it in lf.items if it.names == {loop + suffix}]
+        assert len(body) == 1 and body[0].kind == "macro_call" and {"for", curve} <= body[0].uses
+        assert not {"mg_fresnel_eval", "film_thickness", other} & body[0].uses
+    caller = [it for it in lf.items if loop + "_film" in it.uses]
+    assert len(caller) == 1 and loop + "_bare" in caller[0].uses
     text = re.sub(r"\s+", " ", lf.item_text(caller[0]))
-    assert re.search(r"if \(fr\.film_thickness > 0\.0\) sum = %s\([^;]*, true[,)]" % loop, text)
-    assert re.search(r"else sum = %s\([^;]*, false[,)]" % loop, text)
+    assert re.search(r"if \(fr\.film_thickness > 0\.0\) sum = %s_film\(" % loop, text)
+    assert re.search(r"else sum = %s_bare\(" % loop, text)

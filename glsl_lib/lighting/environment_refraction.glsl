@@ -31,34 +31,37 @@ vec3 mg_refraction_thin_shell(vec3 I, vec3 M, vec3 N, float ior)
     return dot(R2, R2) < 1.0e-8 ? reflect(R1, N) : R2;
 }
 
-// Sums over the n samples of mg_env_refraction: the radiance transmitted through each sample's facet times its
-// share w = 1 - F (returned), the shares (share) and the same samples' reflection as the node's reflection lobe
-// weighs it (reflected: F G2 / G1(v), as mg_env_specular), for the cap. film: F is the film's curve, else the bare
-// one; chosen once by the caller, as in mg_env_specular_samples.
-vec3 mg_env_refraction_samples(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_walled, int n,
-                               float G1V, bool film, out vec3 share, out vec3 reflected)
-{
-    vec3 sum = vec3(0.0);
-    share = vec3(0.0);
-    reflected = vec3(0.0);
-    for (int i = 0; i < n; ++i)
-    {
-        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
-        vec3 Lt = thin_walled ? mg_refraction_thin_shell(-Vt, H, vec3(0.0, 0.0, 1.0), ior)
-                              : mg_refraction_solid_sphere(-Vt, H, ior);
-        float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
-        vec3 L = frame * Lt;
-        float VdotH = clamp(dot(Vt, H), 0.0, 1.0);
-        vec3 F = film ? mg_fresnel_film(fr, VdotH) : mg_fresnel_base(fr, VdotH);
-        vec3 w = max(1.0 - F, 0.0);
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * w;
-        share += w;
-        vec3 Lr = reflect(-Vt, H);
-        if (Lr.z > 0.0)
-            reflected += F * (mg_ggx_G2(Lr, Vt, alpha) / G1V);
-    }
-    return sum;
+// The sample loop of mg_env_refraction, once per Fresnel curve FRESNEL(fr, cosine), as MG_ENV_SPECULAR_SAMPLES: NAME
+// returns the sum of the radiance transmitted through each sample's facet times its share w = 1 - F, and sets share
+// to the sum of the shares and reflected to the same samples' reflection as the node's reflection lobe weighs it
+// (F G2 / G1(v), as mg_env_specular), for the cap.
+#define MG_ENV_REFRACTION_SAMPLES(NAME, FRESNEL) \
+vec3 NAME(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_walled, int n, float G1V, \
+          out vec3 share, out vec3 reflected) \
+{ \
+    vec3 sum = vec3(0.0); \
+    share = vec3(0.0); \
+    reflected = vec3(0.0); \
+    for (int i = 0; i < n; ++i) \
+    { \
+        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n)); \
+        vec3 Lt = thin_walled ? mg_refraction_thin_shell(-Vt, H, vec3(0.0, 0.0, 1.0), ior) \
+                              : mg_refraction_solid_sphere(-Vt, H, ior); \
+        float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z); \
+        vec3 L = frame * Lt; \
+        vec3 F = FRESNEL(fr, clamp(dot(Vt, H), 0.0, 1.0)); \
+        vec3 w = max(1.0 - F, 0.0); \
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * w; \
+        share += w; \
+        vec3 Lr = reflect(-Vt, H); \
+        if (Lr.z > 0.0) \
+            reflected += F * (mg_ggx_G2(Lr, Vt, alpha) / G1V); \
+    } \
+    return sum; \
 }
+
+MG_ENV_REFRACTION_SAMPLES(mg_env_refraction_samples_film, mg_fresnel_film)
+MG_ENV_REFRACTION_SAMPLES(mg_env_refraction_samples_bare, mg_fresnel_base)
 
 // Transmitted environment radiance, times what the interface lets through. The rough transmission lobe
 // (Walter et al. 2007) is sampled by its microfacets: n visible normals m of the view (Heitz 2018), each
@@ -90,9 +93,9 @@ vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 sum, share, reflected;
     if (fr.film_thickness > 0.0)
-        sum = mg_env_refraction_samples(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, true, share, reflected);
+        sum = mg_env_refraction_samples_film(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);
     else
-        sum = mg_env_refraction_samples(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, false, share, reflected);
+        sum = mg_env_refraction_samples_bare(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);
 #ifdef MG_REFRACTION_UNBOUNDED
     return sum / (float(n) * G1V);
 #else

@@ -45,28 +45,34 @@ vec3 mg_retro(vec3 Lt)
     return vec3(-Lt.xy, Lt.z);
 }
 
-// Sum over the n samples of mg_env_specular of the reflected radiance times F G2 / G1(v), each read at the level of
-// the reflected direction's density D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v). film: F is the film's curve, else the
-// bare one. mg_env_specular tests the film once and calls this with a constant, which each copy folds, so that no
-// sample re-tests it (the thickness is a uniform: where a pixel block runs both sides of a branch under a mask, as
-// on llvmpipe, a test inside the loop would be paid by every sample).
-vec3 mg_env_specular_samples(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, float G1V, bool film)
-{
-    vec3 sum = vec3(0.0);
-    for (int i = 0; i < n; ++i)
-    {
-        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
-        vec3 Lt = reflect(-Vt, H);
-        if (Lt.z <= 0.0)
-            continue;
-        float VdotH = clamp(dot(Vt, H), 0.0, 1.0);
-        float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
-        vec3 L = frame * (retro ? mg_retro(Lt) : Lt);
-        vec3 F = film ? mg_fresnel_film(fr, VdotH) : mg_fresnel_base(fr, VdotH);
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V);
-    }
-    return sum;
+// The sample loop of mg_env_specular, once per Fresnel curve FRESNEL(fr, cosine): NAME sums over n samples the
+// reflected radiance times F G2 / G1(v), each read at the level of the reflected direction's density
+// D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v). mg_env_specular tests the lobe's thin film once and calls the film's copy
+// or the bare curve's: the thickness is a uniform, and where a pixel block runs both sides of a branch under a mask
+// (llvmpipe) a test inside the loop is paid by every sample. (One function of a constant flag would be inlined with
+// both curves in both copies before the flag folds: twice the compile. The backslashes are not aligned: a macro is
+// joined into one line, padding included, in every shader.)
+#define MG_ENV_SPECULAR_SAMPLES(NAME, FRESNEL) \
+vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, float G1V) \
+{ \
+    vec3 sum = vec3(0.0); \
+    for (int i = 0; i < n; ++i) \
+    { \
+        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n)); \
+        vec3 Lt = reflect(-Vt, H); \
+        if (Lt.z <= 0.0) \
+            continue; \
+        float VdotH = clamp(dot(Vt, H), 0.0, 1.0); \
+        float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z); \
+        vec3 L = frame * (retro ? mg_retro(Lt) : Lt); \
+        vec3 F = FRESNEL(fr, VdotH); \
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
+    } \
+    return sum; \
 }
+
+MG_ENV_SPECULAR_SAMPLES(mg_env_specular_samples_film, mg_fresnel_film)
+MG_ENV_SPECULAR_SAMPLES(mg_env_specular_samples_bare, mg_fresnel_base)
 
 // Reflected environment radiance times the lobe's Fresnel and shadowing (without compensation).
 vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
@@ -85,9 +91,9 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 sum;
     if (fr.film_thickness > 0.0)
-        sum = mg_env_specular_samples(Vt, frame, alpha, fr, retro, n, G1V, true);
+        sum = mg_env_specular_samples_film(Vt, frame, alpha, fr, retro, n, G1V);
     else
-        sum = mg_env_specular_samples(Vt, frame, alpha, fr, retro, n, G1V, false);
+        sum = mg_env_specular_samples_bare(Vt, frame, alpha, fr, retro, n, G1V);
     return sum / float(n);
 #endif
 }
