@@ -182,7 +182,7 @@ def _generate(args):
 
 def _session_options(args):
     """How shaders are generated, beyond the document: pipeline.Session keywords from the options."""
-    lights = args.max_lights
+    lights = getattr(args, "max_lights", None)      # web and three: no lights (the page binds none)
     if lights is None:              # render --lights RIG: as many as the rig holds
         lights = len(args.rig) if getattr(args, "rig", None) else 0
     return {"target": args.target, "interface": _interface(args), "max_lights": lights}

@@ -246,13 +246,14 @@ def test_zero_weight_lobes_are_not_emitted(tmp_path):
     path = _ss_document(tmp_path, [("coat", "float", "0"), ("sheen", "float", "0"), ("transmission", "float", "0"),
                                    ("metalness", "float", "0"), ("subsurface", "float", "0"),
                                    ("emission", "float", "0")])
-    complete = pipeline.generate(path)[0].fragment.split("void main()")[1]
-    reduced = pipeline.generate(path, interface="reduced")[0].fragment.split("void main()")[1]
+    # with a light loop, so that the reflection context's calls are there to be dropped too
+    complete = pipeline.generate(path, max_lights=1)[0].fragment.split("void main()")[1]
+    reduced = pipeline.generate(path, interface="reduced", max_lights=1)[0].fragment.split("void main()")[1]
     for call in ("mg_sheen_conty_kulla_reflection(", "mg_conductor_indirect(", "mg_translucent_indirect(",
                  "mg_subsurface_indirect(", "mg_scatter_T", "ss_coat_bsdf", "mg_generalized_schlick_edf("):
         assert call in complete
         assert call not in reduced, call
-    assert "1.0e-6" not in reduced and " ? " not in reduced            # no guard left: each folded to true
+    assert "1.0e-6" not in reduced and "if (" not in reduced            # no guard left: each folded to true
     assert reduced.count("mg_dielectric_indirect(") == 1                 # the specular lobe alone
     assert "// emission" not in reduced                                  # emission 0: no EDF at all
 
