@@ -162,7 +162,7 @@ _ENVIRONMENT_DEFINES = {"fis": [], "prefiltered": ["MG_ENV_PREFILTERED", "MG_REF
 class Emitter:
     stage = "fragment"                # the stage its code goes to (VertexEmitter: "vertex")
 
-    def __init__(self, graph, environment="fis", target="glsl", max_lights=0):
+    def __init__(self, graph, environment="fis", target="glsl", max_lights=0, compact=False):
         if environment not in ENVIRONMENT_METHODS:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
         # the emitter's own view of the graph: the public uniforms are its own table, which emission may
@@ -172,6 +172,7 @@ class Emitter:
         self.environment = environment
         self.target = targets.get(target)
         self.max_lights = int(max_lights)   # u_lightData's length; 0: lit surfaces have no light loop
+        self.compact = compact        # library code pasted without comments and blank lines (reduced shaders)
         self.files = []               # glsl_lib files in emission order
         self.external = []            # (path, text) of document-supplied GLSL
         self.streams = {}             # name -> Stream, in first-use order
@@ -568,7 +569,7 @@ class Emitter:
         roots = frag + self.body + [out_expr] + [text for _, text in self.external]
         for rel, text in glsldeps.used_code([(r, read_lib_file(r)[0]) for r in self.files], roots):
             frag.append("// ---- glsl_lib/%s" % rel)
-            frag.append(text.rstrip() + "\n")
+            frag.append((glsldeps.compact(text, rel) if self.compact else text.rstrip()) + "\n")
         for path, text in self.external:
             frag.append("// ---- %s" % comment_text(os.path.basename(path)))
             frag.append(text.rstrip() + "\n")
@@ -676,7 +677,7 @@ class VertexStage:
                      "mg_displacement.scale, 1.0);"]
             for rel, text in glsldeps.used_code([(r, read_lib_file(r)[0]) for r in files], lines + body):
                 lines.append("// ---- glsl_lib/%s" % rel)
-                lines.append(text.rstrip() + "\n")
+                lines.append((glsldeps.compact(text, rel) if em.compact else text.rstrip()) + "\n")
         lines += ["", "void main()", "{"] + body
         lines += ["    gl_Position = u_viewProjectionMatrix * world_position;"]
         lines += ["    v_%s = %s;" % (s.name, s.vertex) for s in em.streams.values()]
@@ -847,7 +848,8 @@ def _is_plain_name(e):
     return e.replace("_", "a").isalnum() and not e[0].isdigit() and e not in ("true", "false")
 
 
-def emit(graph, environment="fis", target="glsl", max_lights=0):
+def emit(graph, environment="fis", target="glsl", max_lights=0, compact=False):
     """The Shader of a graph. max_lights: how many direct lights (u_lightData) lit surfaces loop over; 0 (the
-    default) writes no light loop: environment light only."""
-    return Emitter(graph, environment, target, max_lights).emit()
+    default) writes no light loop: environment light only. compact: glsl_lib code without comments and blank lines
+    (the reduced interface's shaders: made for one use, not for reading; the complete ones keep their citations)."""
+    return Emitter(graph, environment, target, max_lights, compact).emit()

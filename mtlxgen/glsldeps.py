@@ -461,3 +461,11 @@ def used_code(files, roots):
         if kept:
             out.append((lf.rel, lf.header + "".join(kept)))
     return out
+
+
+def compact(text, where="<glsl>"):
+    """Library code without its comments, trailing spaces and blank lines: what a reduced shader (a shader made for
+    one use, not for reading) pastes. Every line that holds code stays a line of its own (preprocessor lines
+    included), so the code is the same token for token."""
+    lines = (line.rstrip() for line in _strip_comments(text, where).split("\n"))
+    return "\n".join(line for line in lines if line)

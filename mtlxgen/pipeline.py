@@ -101,7 +101,7 @@ class Session:
             g, kept = reduce.reduce(g, self.interface)
             g = fold.fold(g)
         shader = glslcheck.check(emit.emit(g, environment=self.environment, target=self.target,
-                                           max_lights=self.max_lights))
+                                           max_lights=self.max_lights, compact=self.interface.reduced))
         shader.manifest["interface"] = self.interface.kind
         if kept is not None:
             shader.manifest["kept"] = kept
