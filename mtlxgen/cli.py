@@ -167,24 +167,26 @@ def _check_document(path):
         raise MtlxError((Loc(path or "<empty path>", 0), problem))
 
 
-def _generate(args):
-    """(shaders that worked, MtlxError or None) for generate and render; warnings printed either way."""
+def _generate(args, rig=()):
+    """(shaders that worked, MtlxError or None) for generate and render; warnings printed either way. rig: the
+    lights render binds (its shaders take as many, unless --max-lights says)."""
     from . import pipeline
     warnings = Warnings()
     try:
         return pipeline.generate(args.file, [args.element] if args.element else None, args.library, partial=True,
                                  usd_seed_rules=args.usd_seed_rules, environment=args.environment,
                                  usd_options=_usd_options(args), strict=args.strict, warnings=warnings,
-                                 **_session_options(args))
+                                 **_session_options(args, rig))
     finally:
         _print_warnings(warnings.lines())
 
 
-def _session_options(args):
-    """How shaders are generated, beyond the document: pipeline.Session keywords from the options."""
-    lights = getattr(args, "max_lights", None)      # web and three: no lights (the page binds none)
-    if lights is None:              # render --lights RIG: as many as the rig holds
-        lights = len(args.rig) if getattr(args, "rig", None) else 0
+def _session_options(args, rig=()):
+    """How shaders are generated, beyond the document: pipeline.Session keywords from the options (and the
+    light rig a render binds: as many lights as it holds, where --max-lights does not say)."""
+    lights = getattr(args, "max_lights", None)      # web and three have no --max-lights: their pages bind no lights
+    if lights is None:
+        lights = len(rig)
     return {"target": args.target, "interface": _interface(args), "max_lights": lights}
 
 
@@ -215,12 +217,12 @@ def cmd_render(args):
     if args.geometry == "stage" and _usd_options(args) is None:
         raise MtlxError((Loc(args.file, 0), "--geometry stage draws a USD stage's meshes; this is a MaterialX document"))
     from .lights import load_light_rig
-    lights = args.rig = load_light_rig(args.lights) if args.lights else ()
+    lights = load_light_rig(args.lights) if args.lights else ()
     if args.max_lights is not None and args.max_lights < len(lights):
         raise MtlxError((Loc(args.lights, 0), "the light rig holds %d lights; --max-lights %d cannot draw them"
                          % (len(lights), args.max_lights)))
     # elements with problems are reported, the others drawn (as generate writes them)
-    shaders, error = _generate(args)
+    shaders, error = _generate(args, lights)
     env = render.load_environment(args.env) if args.env else None
     problems = list(error.problems) if error is not None else []
     with render.Renderer(size=args.size, environment=env, lights=lights) as r:

@@ -724,19 +724,18 @@ class Declarations:
     def preamble(self, comment):
         return ["#version " + self.target.version] + list(self.target.header) + [comment, ""]
 
-    def struct_lines(self, types, app_names):
+    def struct_lines(self, types):
+        """Declarations of the document's struct types among `types` (and the types they hold)."""
         g = self.graph
-        lines = []
-        for name in struct_order([t for t in g.structs if t in types], g.structs):
-            lines.append("struct %s { %s };" % (name, " ".join(
-                "%s %s;" % (mxtypes.glsl_type(mt, g.structs), mn) for mn, mt, _ in g.structs[name].members)))
-        return lines + interface.types_needed(app_names, self.em.max_lights)
+        return ["struct %s { %s };" % (name, " ".join(
+            "%s %s;" % (mxtypes.glsl_type(mt, g.structs), mn) for mn, mt, _ in g.structs[name].members))
+            for name in struct_order([t for t in g.structs if t in types], g.structs)]
 
     def uniforms(self, stage, app_names, material, used_types):
         """The struct types and uniforms of one stage: application uniforms `app_names`, the material's
         `material` (graph Uniforms). With a block, every stage declares the whole block."""
         if not self.target.uniform_block:
-            lines = self.struct_lines(used_types, ())      # interface_declarations has the light record
+            lines = self.struct_lines(used_types)
             lines += interface_declarations(app_names, self.target.name, self.em.max_lights)
             for u in material:
                 t, length, init = self.em.uniform_parts(u)
@@ -745,12 +744,14 @@ class Declarations:
                 lines.append("uniform %s %s%s%s;" % (t, u.name, suffix, init))
             return lines
         block_types = {u.type for u in self.graph.uniforms.values()}
-        lines = self.struct_lines(set(used_types) | block_types, self.app_names)
+        lines = self.struct_lines(set(used_types) | block_types)
+        lines += interface.types_needed(self.app_names, self.em.max_lights)
         lines.append("layout(std140, set = %d, binding = %d) uniform %s" % (targets.BLOCK_SET, targets.BLOCK_BINDING,
                                                                           targets.BLOCK_NAME))
         lines.append("{")
         for name, t, length in self.block:
-            suffix = "[MG_MAX_LIGHTS]" if name == "u_lightData" else ("[%d]" % length if length else "")
+            suffix = interface.TABLE[name].array_suffix if name in interface.TABLE else \
+                ("[%d]" % length if length else "")
             lines.append("    %s %s%s;" % (t, name, suffix))
         lines.append("};")
         stage_samplers = [n for n in sorted(app_names) if interface.TABLE[n].type in interface.SAMPLER_TYPES]

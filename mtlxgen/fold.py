@@ -492,29 +492,25 @@ def static_condition(text):
         pos[0] += 1
         return toks[pos[0] - 1]
 
-    def parse_or():
-        terms = [parse_and()]
-        while peek() == "||":
+    def parse_chain(op, parse_term, absorbing):
+        """Terms joined by `op`, decided where a term is `absorbing` (True for ||, False for &&), the others'
+        identity dropped."""
+        terms = [parse_term()]
+        while peek() == op:
             take()
-            terms.append(parse_and())
-        if any(t is True for t in terms):
-            return True
-        terms = [t for t in terms if t is not False]
+            terms.append(parse_term())
+        if any(t is absorbing for t in terms):
+            return absorbing
+        terms = [t for t in terms if t is not (not absorbing)]
         if not terms:
-            return False
-        return terms[0] if len(terms) == 1 else " || ".join(_wrap(t) for t in terms)
+            return not absorbing
+        return terms[0] if len(terms) == 1 else (" %s " % op).join(_wrap(t) for t in terms)
+
+    def parse_or():
+        return parse_chain("||", parse_and, True)
 
     def parse_and():
-        terms = [parse_primary()]
-        while peek() == "&&":
-            take()
-            terms.append(parse_primary())
-        if any(t is False for t in terms):
-            return False
-        terms = [t for t in terms if t is not True]
-        if not terms:
-            return True
-        return terms[0] if len(terms) == 1 else " && ".join(_wrap(t) for t in terms)
+        return parse_chain("&&", parse_primary, False)
 
     def parse_primary():
         t = peek()

@@ -21,6 +21,21 @@ def to_srgb8(img):
     return (np.clip(out, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
 
 
+def image_header(path):
+    """(format name, width, height, 8-bit) from an image file's header, without decoding it; None where the file
+    does not read as an image."""
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        oiio.geterror()
+        return None
+    try:
+        spec = inp.spec()
+        return inp.format_name(), spec.width, spec.height, spec.format == oiio.UINT8
+    finally:
+        inp.close()
+
+
 def read_image(path):
     """Image file -> float32 array (rows top first, channels last). Raises MtlxError if unreadable."""
     import OpenImageIO as oiio

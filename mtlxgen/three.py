@@ -22,6 +22,7 @@ import shutil
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
+from .images import image_header
 from .web import ASSETS, MAX_TEXTURE_PIXELS, MAX_TEXTURES_PIXELS, _html_text, _too_big, fill
 
 RUNTIME = "mtlxgen_three.js"
@@ -31,18 +32,6 @@ TEXTURES = "textures"
 LOADABLE = {"png": ".png", "jpeg": ".jpg", "webp": ".webp", "openexr": ".exr", "hdr": ".hdr"}
 
 
-def _image_info(path):
-    """(format name, width, height, 8-bit) from the header, or None where the file does not read as an image."""
-    import OpenImageIO as oiio
-    inp = oiio.ImageInput.open(path)
-    if inp is None:
-        oiio.geterror()
-        return None
-    try:
-        spec = inp.spec()
-        return inp.format_name(), spec.width, spec.height, spec.format == oiio.UINT8
-    finally:
-        inp.close()
 
 
 def _safe_name(name):
@@ -67,7 +56,7 @@ class TextureFiles:
         if real in self.done:
             return self.done[real]
         check_regular(path, Loc(path, 0), "image file")
-        info = _image_info(real)
+        info = image_header(real)
         if info is None:
             self.done[real] = None
             return None

@@ -78,16 +78,9 @@ def encode_image(levels, precision="auto"):
 
 def image_size(path):
     """(width, height) from an image file's header, without decoding it; None where it does not read."""
-    import OpenImageIO as oiio
-    inp = oiio.ImageInput.open(path)
-    if inp is None:
-        oiio.geterror()
-        return None
-    try:
-        spec = inp.spec()
-        return spec.width, spec.height
-    finally:
-        inp.close()
+    from .images import image_header
+    header = image_header(path)
+    return None if header is None else header[1:3]
 
 
 def _too_big(path, size, limit, what):

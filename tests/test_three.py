@@ -14,23 +14,9 @@ import numpy as np
 import pytest
 
 from mtlxgen import cli, images, pipeline, render
-from webpages import Server, assert_parity, browser, npm_three, open_page  # noqa: F401  (browser: a fixture)
+from webpages import CASES, SAMPLES, SIZE, Server, assert_parity, browser, npm_three, open_page  # noqa: F401
+from webpages import path as _path
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SIZE, SAMPLES = 128, 32
-
-CASES = [
-    ("standard_surface", "examples/quick_start.mtlx", "M_tiles"),
-    ("open_pbr_surface", "examples/openpbr/open_pbr_released_names.mtlx", "coated_red_mat"),
-    ("gltf_pbr", "tests/data/materialx/resources/Materials/Examples/GltfPbr/gltf_pbr_default.mtlx", "Default"),
-    ("UsdPreviewSurface_textured_cutout", "examples/usd/usd_seed_rules.mtlx", "leaf"),
-    ("textured_standard_surface", "tests/data/web/textured.mtlx", "M_textured"),
-    ("enterprise_pbr", "examples/enterprise/enterprise_car_paint.mtlx", "M_car_paint"),
-]
-
-
-def _path(rel):
-    return os.path.join(ROOT, rel)
 
 
 @pytest.fixture(scope="module")

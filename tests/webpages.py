@@ -12,6 +12,24 @@ import threading
 import numpy as np
 import pytest
 
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SIZE, SAMPLES = 128, 32             # both the page (or three's example) and render draw at these
+
+# the materials issue 13 names, drawn by test_web and test_three: (test id, document, element)
+CASES = [
+    ("standard_surface", "examples/quick_start.mtlx", "M_tiles"),
+    ("open_pbr_surface", "examples/openpbr/open_pbr_released_names.mtlx", "coated_red_mat"),
+    ("gltf_pbr", "tests/data/materialx/resources/Materials/Examples/GltfPbr/gltf_pbr_default.mtlx", "Default"),
+    ("UsdPreviewSurface_textured_cutout", "examples/usd/usd_seed_rules.mtlx", "leaf"),
+    ("textured_standard_surface", "tests/data/web/textured.mtlx", "M_textured"),
+    ("enterprise_pbr", "examples/enterprise/enterprise_car_paint.mtlx", "M_car_paint"),
+]
+
+
+def path(rel):
+    return os.path.join(ROOT, rel)
+
+
 CHROMIUM = os.environ.get("MTLXGEN_CHROMIUM") or shutil.which("chromium") or "/usr/bin/chromium"
 # WebGL2 without a GPU: ANGLE on SwiftShader; no network, no first-run or component traffic
 FLAGS = ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-background-networking",
