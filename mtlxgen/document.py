@@ -208,6 +208,13 @@ class _Builder:
         for c in el.children:
             if id(c) in dropped:
                 continue
+            if c.tag == "parameter" and version_tuple(self.doc.version) >= (1, 38):
+                # MaterialX upgrades <parameter> to <input> only in documents older than 1.38 (which removed
+                # the element); in a newer document it keeps it as an unknown child, which sets nothing
+                self.doc.warnings.append((c.loc, "<parameter> '%s' in a %s document: MaterialX 1.38 replaced "
+                                                 "<parameter> with <input>, so MaterialX ignores it (as we do)"
+                                          % (c.get("name", ""), self.doc.version)))
+                continue
             if c.tag in ("input", "parameter"):
                 p = self.port(c, ctx, "input")
                 target.inputs[p.name] = p

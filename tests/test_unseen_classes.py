@@ -220,3 +220,35 @@ def test_empty_value_is_no_value_in_materialx_and_in_ours(reference, type_name):
         mxtypes.parse_value(type_name, "")
     with pytest.raises(mxtypes.ValueError_):
         mxtypes.parse_value(type_name, "abc", slips=[])
+
+
+# ---------------------------------------------------------------- <parameter> in a 1.38 or newer document
+# MaterialX's TestSuite/pbrlib/bsdf/layer_vdf.mtlx (version 1.38) sets each dielectric_bsdf's scatter_mode with a
+# <parameter>. MaterialX turns <parameter> into <input> only when it upgrades a document older than 1.38; in a 1.38
+# document the element stays an unknown child that sets nothing, so both dielectrics keep scatter_mode "R". We read
+# the parameter as an input (a blue-tinted glass where MaterialX draws a dark glossy sphere: mean 46/255, 57% of
+# pixels off). Now: ignored, with a warning, in 1.38 and 1.39 documents; read as an input in older ones.
+
+PARAMETER_BODY = ('<dielectric_bsdf name="b" type="BSDF"><input name="ior" type="float" value="1.5" />'
+                  '<parameter name="scatter_mode" type="string" value="T" />'
+                  '<parameter name="tint" type="color3" value="0.2, 0.5, 1.0" /></dielectric_bsdf>'
+                  '<surface name="s" type="surfaceshader"><input name="bsdf" type="BSDF" nodename="b" /></surface>'
+                  '<surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" '
+                  'nodename="s" /></surfacematerial>')
+
+
+@pytest.mark.parametrize("version", ["1.37", "1.38", "1.39"])
+def test_parameter_element_is_read_as_materialx_reads_it(renderer, cms_reference, tmp_path, version):
+    from mtlxgen import diagnostics, pipeline
+    path = write_doc(tmp_path, PARAMETER_BODY, version=version)
+    assert_parity_with_materialx(renderer, cms_reference, path, "m")
+    warnings = diagnostics.Warnings()
+    shader = pipeline.generate(path, ["m"], warnings=warnings)[0]
+    flagged = [line for line in warnings.lines() if "<parameter>" in line]
+    if version == "1.37":                       # upgraded: the parameters are the BSDF's inputs
+        assert not flagged
+        assert "b_tint" in {u["name"] for u in shader.manifest["uniforms"]}
+    else:
+        assert len(flagged) == 2 and all(":3: warning:" in line for line in flagged), flagged
+        with pytest.raises(diagnostics.MtlxError, match="parameter"):
+            pipeline.generate(path, ["m"], strict=True)
