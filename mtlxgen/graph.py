@@ -461,25 +461,33 @@ class GraphBuilder:
                 self.warn(port.loc, "%s: ignored, as MaterialX ignores an input the nodedef a node names lacks" % problem)
         stem = scope.prefix + node.name if scope.prefix and not scope.public else node.name
         inputs, static = {}, {}
+        node_port = node.inputs.get
+        public, memo, scope_key = scope.public, self.memo, scope.key
         for name, decl in nd.inputs.items():
-            port = node.inputs.get(name)
+            port = node_port(name)
+            dtype = decl.type
             src = None
             if port is not None:
-                if port.type != decl.type:
+                if port.type != dtype:
                     problem = "input '%s' of node '%s' has type %s; %s expects %s" % (name, node.name, port.type,
-                                                                                     nd.name, decl.type)
-                    if not (named and mxtypes.interchangeable(port.type, decl.type)):
+                                                                                     nd.name, dtype)
+                    if not (named and mxtypes.interchangeable(port.type, dtype)):
                         raise MtlxError((port.loc, problem))
                     self.warn(port.loc, "%s: read as %s, as MaterialX does where a node names its nodedef"
-                              % (problem, decl.type))
-                dep = self._unbuilt_dependency(port, scope)
-                if dep is not None:
-                    yield port, dep                 # instantiate() builds it, then resumes here
-                src = self.source_of_port(port, scope, decl.type, node.name)
-                if src is not None:
-                    src = self.check_type(port, src, "input '%s' of node '%s'" % (name, node.name))
-                    if src.type != decl.type:       # declared as the interchangeable type (warned above)
-                        src = replace(src, type=decl.type)
+                              % (problem, dtype))
+                if port.nodename or port.nodegraph or port.interfacename or port.output:
+                    if port.nodename and not port.interfacename and not (port.error and not port.connected):
+                        dep = scope.nodes.get(port.nodename)        # a node of this scope not built yet:
+                        if dep is not None and (scope_key, dep.name) not in memo:
+                            yield port, dep                 # instantiate() builds it, then resumes here
+                    src = self.source_of_port(port, scope, dtype, node.name)
+                    if src is not None:
+                        if src.type != port.type:
+                            src = self.check_type(port, src, "input '%s' of node '%s'" % (name, node.name))
+                        if src.type != dtype:       # declared as the interchangeable type (warned above)
+                            src = replace(src, type=dtype)
+                elif port.error:                    # no connection: its own value, which does not parse
+                    raise MtlxError((port.loc, port.error))
             if src is None and decl.defaultgeomprop:
                 # an unconnected input with a default geomprop reads the geometry even where the document
                 # authors a value (as MaterialX's generator does: gltf_pbr_default's normal = (0, 0, 1))
@@ -488,21 +496,23 @@ class GraphBuilder:
                 p = port if port is not None else decl
                 if p.error:
                     raise MtlxError((p.loc, p.error))
-                if scope.public or decl.type == "filename":
+                if public or dtype == "filename":
                     src = self.public_value(stem, p, decl)
                 else:
-                    self.note_value(p if p.value is not None or p.warning else decl)
+                    q = p if p.value is not None or p.warning else decl
+                    if q.warning:
+                        self.warn(q.loc, q.warning)
                     value = p.value if p.value is not None else decl.value
                     if value is None:
-                        value = mxtypes.zero(decl.type, self.lib.structs)
-                    src = Source(decl.type, value=value, loc=p.loc,
-                                 colorspace=(p.colorspace or decl.colorspace) if decl.type == "filename" else None,
-                                 unit=p.unit or decl.unit, unittype=p.unittype or decl.unittype)
-            if port is not None and decl.type in ("color3", "color4"):
+                        value = mxtypes.zero(dtype, self.lib.structs)
+                    src = Source(dtype, value, None, None, None, None, p.unit or decl.unit,
+                                 p.unittype or decl.unittype, p.loc)
+            if port is not None and (dtype == "color3" or dtype == "color4") and port.colorspace:
                 src = self.color_managed(src, port, scope, "%s_%s" % (stem, name))
-            if decl.type in ("string", "geomname") and not src.linked:
+            if (dtype == "string" or dtype == "geomname") and src.node is None:
                 static[name] = src.value
-                self.check_enum(decl, src, port or decl, node, nd)
+                if decl.enum:
+                    self.check_enum(decl, src, port or decl, node, nd)
             inputs[name] = src
         impl_graph = self.lib.graph_impls.get(nd.name)
         if impl_graph is not None and not self._has_leaf_impl(nd):

@@ -79,9 +79,23 @@ BSDF EDF VDF surfaceshader volumeshader displacementshader lightshader material"
 IDENTIFIER_CHARS = 64     # longer names are cut and end in a hash: not every driver takes 1,000-character names
 
 
+_NOT_IDENTIFIER = re.compile(r"[^A-Za-z0-9_]")
+_UNDERSCORES = re.compile(r"__+")
+_IDENTIFIERS = {}                   # name -> glsl_identifier(name): nodes of one kind share their stems
+_IDENTIFIERS_MAX = 200000
+
+
 def glsl_identifier(name):
-    s = re.sub(r"[^A-Za-z0-9_]", "_", name)
-    s = re.sub(r"__+", "_", s)
+    s = _IDENTIFIERS.get(name)
+    if s is None:
+        if len(_IDENTIFIERS) >= _IDENTIFIERS_MAX:
+            _IDENTIFIERS.clear()
+        s = _IDENTIFIERS[name] = _glsl_identifier(name)
+    return s
+
+
+def _glsl_identifier(name):
+    s = _UNDERSCORES.sub("_", _NOT_IDENTIFIER.sub("_", name))
     if not s or s[0].isdigit():
         s = "n" + s
     if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):

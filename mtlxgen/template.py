@@ -38,15 +38,75 @@ def tokens(template):
         i = k + 2
 
 
+# parsed templates: template text -> ([(kind, text)], unterminated); kind None for literal text, else the field's
+# kind (_kind). A node table has a few hundred templates, each parsed once per process, not once per node emitted.
+_PARSED = {}
+_PARSED_MAX = 20000         # templates of documents' own implementations too: bounded, cleared when full
+
+
+def _kind(f):
+    """The kind of field `f`, as field() tests them, in its order."""
+    if f.startswith("="):
+        return "="
+    if f.startswith("@"):
+        return "@"
+    if f == "$type":
+        return "$type"
+    if f.startswith("$type:"):
+        return "$type:"
+    return "input"
+
+
+def parse(template):
+    """([(kind, text)], whether a `{{` is left unclosed after those tokens) of a template, cached."""
+    parsed = _PARSED.get(template)
+    if parsed is None:
+        toks, unterminated = [], False
+        try:
+            for is_field, text in tokens(template):
+                if is_field:
+                    toks.append((_kind(text), text))
+                elif text:                  # empty literal text adds nothing
+                    toks.append((None, text))
+        except Unterminated:
+            unterminated = True
+        if len(_PARSED) >= _PARSED_MAX:
+            _PARSED.clear()
+        parsed = _PARSED[template] = (toks, unterminated)
+    return parsed
+
+
 def render(em, template, node, out_type):
     """The template of `node` (whose output has type `out_type`) expanded through emitter `em`."""
+    toks, unterminated = parse(template)
+    inputs = node.inputs
     out = []
-    try:
-        for is_field, text in tokens(template):
-            out.append(field(em, text, node, out_type) if is_field else text)
-    except Unterminated:
+    for kind, text in toks:
+        if kind is None:
+            out.append(text)
+        elif kind == "input" and text in inputs:
+            out.append(_input(em, text, inputs[text], node))
+        else:
+            out.append(field(em, text, node, out_type))
+    if unterminated:
         em.fail(node, "unterminated '{{' in implementation template")
     return "".join(out)
+
+
+def _input(em, f, src, node):
+    """The GLSL text of field `f` naming input `f` of `node`, whose Source is `src`."""
+    t = src.type
+    if t in ("string", "geomname") and src.node is None:
+        em.fail(node, "string input '%s' cannot be used as a GLSL value" % f)
+    if t in CLOSURE_TYPES and src.node in em.closure_nodes:
+        return em.closure(src, em.context or "indirect")
+    if f == "normal" and t == "vector3" and em.context in FACING_CONTEXTS \
+            and "BSDF" in node.outputs.values():
+        # a BSDF shades with its normal turned towards the viewer: a normal-mapped or authored
+        # normal facing away would light the surface from behind (as MaterialX's BSDFs do)
+        em.require("pbrlib/forward_facing.glsl")
+        return "mg_forward_facing(%s, mg_V)" % em.expr(src)
+    return em.expr(src)
 
 
 def field(em, f, node, out_type):
@@ -69,16 +129,5 @@ def field(em, f, node, out_type):
             em.fail(node, "implementation template names '%s', which is not an input" % f[6:])
         return em.glsl_type(node.inputs[f[6:]].type)
     if f in node.inputs:
-        src = node.inputs[f]
-        if src.type in ("string", "geomname") and not src.linked:
-            em.fail(node, "string input '%s' cannot be used as a GLSL value" % f)
-        if src.type in CLOSURE_TYPES and src.node in em.closure_nodes:
-            return em.closure(src, em.context or "indirect")
-        if f == "normal" and src.type == "vector3" and em.context in FACING_CONTEXTS \
-                and "BSDF" in node.outputs.values():
-            # a BSDF shades with its normal turned towards the viewer: a normal-mapped or authored
-            # normal facing away would light the surface from behind (as MaterialX's BSDFs do)
-            em.require("pbrlib/forward_facing.glsl")
-            return "mg_forward_facing(%s, mg_V)" % em.expr(src)
-        return em.expr(src)
+        return _input(em, f, node.inputs[f], node)
     em.fail(node, "implementation template names '%s', which is not an input" % f)
