@@ -58,19 +58,46 @@ def _read_text(path):
         return f.read()
 
 
+# _mtlx_files' walks: (root, folders) -> ([(folder, mtime)] of every folder walked, files). A folder's mtime changes
+# when a file is added to it, removed or renamed: a walk whose folders are all unchanged lists the same files, and
+# checking that takes a stat per folder, not a walk (load_library runs for every document generated).
+_WALKS = {}
+
+
+def _folder_mtime(path):
+    try:
+        return os.stat(path).st_mtime_ns
+    except OSError:
+        return None
+
+
 def _mtlx_files(root, folders=None):
-    out = []
+    key = (root, tuple(folders) if folders else None)
+    walked = _WALKS.get(key)
+    if walked is not None and all(_folder_mtime(d) == m for d, m in walked[0]):
+        return list(walked[1])
+    out, seen = [], []
     tops = [os.path.join(root, f) for f in folders] if folders else [root]
     for top in tops:
+        seen.append((top, _folder_mtime(top)))      # (also a top that is not there: made later, it is seen)
         for dp, dns, fs in os.walk(top):
+            if dp != top:
+                seen.append((dp, _folder_mtime(dp)))
             dns[:] = sorted(d for d in dns if not d.startswith("gen") and d != "targets")
             out.extend(os.path.join(dp, f) for f in sorted(fs) if f.endswith(".mtlx"))
+    _WALKS[key] = (seen, tuple(out))
     return out
+
+
+@functools.lru_cache(maxsize=None)
+def _materialx_library_root():
+    """files.materialx_library_root, looked up once per process (the installed wheel does not move)."""
+    return materialx_library_root()
 
 
 def library_files(extra_dirs=()):
     files = []
-    mx_root = materialx_library_root()
+    mx_root = _materialx_library_root()
     if mx_root:
         files += _mtlx_files(mx_root, LIBRARY_FOLDERS)
     files += _mtlx_files(glsl_lib_root())
