@@ -252,3 +252,32 @@ def test_parameter_element_is_read_as_materialx_reads_it(renderer, cms_reference
         assert len(flagged) == 2 and all(":3: warning:" in line for line in flagged), flagged
         with pytest.raises(diagnostics.MtlxError, match="parameter"):
             pipeline.generate(path, ["m"], strict=True)
+
+
+# ---------------------------------------------------------------- a negative colour on a Schlick curve
+# The glTF-MaterialX-Converter's tests/data/bindings/gltf_stream_graph.mtlx feeds gltf_pbr's base_color from the
+# world position, negative on half the sphere; gltf_pbr is a metal by default, so base_color is the color0 of a
+# generalized_schlick_bsdf. MaterialX's GLSL holds color0, color82 and color90 at 0 or above (a reflectance below 0
+# means nothing); ours subtracted light where color0 < 0 and darkened the grazing rise to color90 (mean 1.8/255,
+# 4.2% of pixels off; a Schlick lobe of color0 (-0.3, 0.2, 0.5): mean 8/255, 23% off, up to 211/255 at the rim).
+
+@pytest.mark.parametrize("color0, color90, roughness", [("-0.3, 0.2, 0.5", "1, 1, 1", "0.04, 0.04"),
+                                                        ("-0.3, 0.2, 0.5", "1, 1, 1", "0.5, 0.5"),
+                                                        ("0.3, 0.2, 0.5", "-0.5, 1, 1", "0.25, 0.25")])
+def test_negative_schlick_colours_reflect_nothing_like_materialx(renderer, cms_reference, tmp_path, color0,
+                                                                 color90, roughness):
+    from util import bsdf_material
+    body = bsdf_material('<generalized_schlick_bsdf name="b" type="BSDF">'
+                         '<input name="color0" type="color3" value="%s" /><input name="color90" type="color3" '
+                         'value="%s" /><input name="roughness" type="vector2" value="%s" />'
+                         '</generalized_schlick_bsdf>' % (color0, color90, roughness))
+    assert_parity_with_materialx(renderer, cms_reference, write_doc(tmp_path, body), "m")
+
+
+def test_gltf_base_colour_from_position_matches_materialx(renderer, cms_reference, tmp_path):
+    body = ('<position name="p" type="vector3"><input name="space" type="string" value="world" /></position>'
+            '<convert name="c" type="color3"><input name="in" type="vector3" nodename="p" /></convert>'
+            '<gltf_pbr name="s" type="surfaceshader"><input name="base_color" type="color3" nodename="c" />'
+            '</gltf_pbr><surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" '
+            'nodename="s" /></surfacematerial>')
+    assert_parity_with_materialx(renderer, cms_reference, write_doc(tmp_path, body), "m")

@@ -11,11 +11,22 @@ float mg_f0_to_ior(vec3 F0)
     return (1.0 + r) / (1.0 - r);
 }
 
+// A reflectance below 0 has no meaning: each colour of the curve is held at 0 or above (as MaterialX's GLSL
+// does), so that a negative color0 (e.g. glTF's base colour fed from a world position) reflects nothing rather
+// than subtracting light, and the curve towards color90 still rises from 0 at grazing angles.
+void mg_schlick_colors_nonnegative(inout vec3 color0, inout vec3 color82, inout vec3 color90)
+{
+    color0 = max(color0, 0.0);
+    color82 = max(color82, 0.0);
+    color90 = max(color90, 0.0);
+}
+
 BSDF mg_schlick_reflection(vec3 L, vec3 V, float weight, vec3 color0, vec3 color82, vec3 color90, float exponent,
                            vec2 roughness, bool retro, float film_thickness, float film_ior, vec3 N, vec3 T, int mode)
 {
     if (mode == mg_scatter_T)
         return BSDF(vec3(0.0), vec3(1.0));
+    mg_schlick_colors_nonnegative(color0, color82, color90);
     mat3 frame = mg_tangent_frame(N, T);
     vec2 alpha = mg_ggx_alpha(roughness);
     MgFresnel fr = mg_fresnel_schlick_model(color0, color82, color90, exponent, film_thickness, film_ior);
@@ -30,6 +41,7 @@ BSDF mg_schlick_indirect(vec3 V, float weight, vec3 color0, vec3 color82, vec3 c
 {
     if (mode == mg_scatter_T)
         return BSDF(vec3(0.0), vec3(1.0));
+    mg_schlick_colors_nonnegative(color0, color82, color90);
     mat3 frame = mg_tangent_frame(N, T);
     vec2 alpha = mg_ggx_alpha(roughness);
     MgFresnel fr = mg_fresnel_schlick_model(color0, color82, color90, exponent, film_thickness, film_ior);
@@ -43,6 +55,7 @@ BSDF mg_schlick_transmission(vec3 V, float weight, vec3 color0, vec3 color82, ve
                              vec2 roughness, float film_thickness, float film_ior, vec3 N, vec3 T, int mode,
                              bool thin_walled)
 {
+    mg_schlick_colors_nonnegative(color0, color82, color90);
     vec2 alpha = mg_ggx_alpha(roughness);
     MgFresnel fr = mg_fresnel_schlick_model(color0, color82, color90, exponent, film_thickness, film_ior);
     float NdotV = clamp(dot(N, V), 1.0e-4, 1.0);
