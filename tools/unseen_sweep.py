@@ -106,6 +106,12 @@ class Sweep:
             row["mx_error"] = first_line(e)
             return
         if shader is None:
+            try:                # MaterialX generates it: does its shader compile (else it is not counted)?
+                self.theirs(vs, fs, tex)
+            except Exception as e:
+                row["mx"] = False
+                row["mx_error"] = "MaterialX's shader does not compile: " + first_line(e)
+                return
             row["error"] = problem_text or "not generated"
             return
         row["generated"] = True
