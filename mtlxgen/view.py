@@ -26,6 +26,7 @@ from . import render
 from .diagnostics import Loc, MtlxError
 from .uniformvalues import initial_values, initializers, set_uniform, skeleton  # noqa: F401 (view.X for callers)
 
+SETTABLE = ("float", "integer", "boolean", "color3", "color4", "vector2", "vector3", "vector4")   # value edits
 SAMPLE_STEPS = (16, 64, 256, 1024, 4096)    # the sample counts the S key steps through (the converged estimate)
 MOVING_SAMPLES = 8                          # samples per frame while the camera moves or an edit is shown first
 FRAME_SAMPLES = 16                          # samples per accumulated frame while the camera is still
@@ -94,26 +95,49 @@ class OrbitCamera:
 
 @dataclass
 class Generated:
-    """One element's shader as a generator wrote it."""
+    """One element's shader as a generator wrote it. sources (our generator only): {(file, line): [(uniform,
+    MaterialX type)]}, the public uniforms each document line's input initialises, for value edits that skip
+    the generator (Viewer._value_edit); empty where the generator does not say."""
     element: str
     stem: str
     vertex: str
     fragment: str
     manifest: dict = field(default_factory=dict)
+    sources: dict = field(default_factory=dict)
+
+
+def is_zero(value):
+    """A value that a zero-weight specialization folds: 0, false, black / all-zero vectors."""
+    if isinstance(value, (list, tuple)):
+        return len(value) > 0 and all(is_zero(v) for v in value)
+    if isinstance(value, bool):
+        return not value
+    return isinstance(value, (int, float)) and value == 0
 
 
 class OurGenerator:
     """mtlxgen's pipeline as the viewer drives it: open() reads a document (a pipeline.Session), shader()
-    generates one element. Another generator (a benchmark's MaterialX one) offers the same four methods."""
+    generates one element. Another generator (a benchmark's MaterialX one) offers the same four methods.
+
+    specialize (where no interface is asked for): each element's shader is generated with the reduced interface
+    (reduce.py, fold.py) keeping every public input a uniform except those whose value is zero (0, false,
+    black): a lobe of zero weight (coat, sheen, transmission, subsurface, thin film, emission ...) is left out
+    of the code, so the shader compiles and draws faster. An input once kept stays kept (kept[element]): an
+    edit that moves a folded input off zero regenerates with it kept, and it stays a uniform from then on, so
+    dragging it back to zero and off again sets a value. keep() keeps one at once (the panel edits a folded
+    input). The pictures are those of the complete interface (fold.py computes what the GPU would)."""
 
     def __init__(self, library_dirs=(), usd_options=None, strict=False, usd_seed_rules=None, interface=None,
-                 max_lights=0):
+                 max_lights=0, specialize=True):
         self.library_dirs = tuple(library_dirs)
         self.max_lights = max_lights        # a light rig given: its shaders loop over lights (pipeline.generate)
         self.interface = interface          # None / "complete", "reduced" or a reduce.Interface (--interface)
         self.usd_options = usd_options
         self.strict = strict
         self.usd_seed_rules = usd_seed_rules
+        self.specialize = specialize and interface in (None, "complete")
+        self.kept = {}                      # element -> uniforms kept for good (specialize)
+        self._lock = threading.Lock()
 
     def open(self, path, environment):
         from . import pipeline
@@ -127,12 +151,43 @@ class OurGenerator:
     def elements(self, session):
         return list(session.elements)
 
+    def keep(self, element, uniform):
+        """Keep `uniform` of `element` a uniform from now on (the next shader() has it)."""
+        with self._lock:
+            self.kept.setdefault(element, set()).add(uniform)
+
     def shader(self, session, name):
-        s = session.shader(name)
+        g = session.graph(name)
+        if self.specialize and not session.interface.reduced:
+            s = self._specialized(session, name, g)
+        else:
+            s = session.shader(name)
         notes = session.notes(name)
         if notes:                         # drawn all the same (a USD texture not found draws its fallback)
             s.manifest = dict(s.manifest, notes=["%s: %s" % n for n in notes])
-        return Generated(name, s.stem, s.vertex, s.fragment, s.manifest)
+        sources = {}
+        for u in g.uniforms.values():
+            if u.loc is not None and u.loc.where is None and u.loc.file:
+                sources.setdefault((os.path.abspath(u.loc.file), u.loc.line), []).append((u.name, u.type))
+        return Generated(name, s.stem, s.vertex, s.fragment, s.manifest, sources)
+
+    def _specialized(self, session, name, g):
+        """The reduced interface keeping every input but those at zero that were never kept (see the class)."""
+        from .reduce import LITERAL_TYPES, Interface
+        with self._lock:
+            kept = self.kept.setdefault(name, set())
+            for n, u in g.uniforms.items():
+                if u.type not in LITERAL_TYPES or u.value is None or not is_zero(u.value):
+                    kept.add(n)
+            keep = sorted(n for n in g.uniforms if n in kept)
+        saved = session.interface
+        session.interface = Interface("reduced", [(n, None) for n in keep])
+        try:
+            s = session.shader(name)
+        finally:
+            session.interface = saved
+        s.manifest["folded"] = sorted(n for n in g.uniforms if n not in kept)
+        return s
 
     def files(self, session):
         """Files whose edits change what is drawn: the document, its includes and implementation files."""
@@ -174,6 +229,8 @@ class Reload:
     started: float = 0.0                # perf_counter when generation began
     changed_at: float = 0.0             # perf_counter of the file event that caused it (0: none)
     environment: str = "fis"
+    tree: object = None                 # the document's own XML (xmlreader, includes not spliced) as the session
+                                        # read it: the base a value edit is compared with (None: not known)
 
 
 class Reloader:
@@ -234,12 +291,15 @@ class Reloader:
     def generate(self, element, environment, changed_at=0.0):
         r = Reload(started=time.perf_counter(), changed_at=changed_at, environment=environment)
         g = self.generator
+        before = read_bytes(self.path)
         try:
             r.session = g.open(self.path, environment)
         except MtlxError as e:
             r.problems = e.lines()
             r.files = {os.path.abspath(self.path)}
             return r
+        if before is not None and before == read_bytes(self.path):    # what the session read, for certain
+            r.tree = parse_tree(before, self.path)
         r.files = g.files(r.session)
         r.elements = g.elements(r.session)
         name = element if element in r.elements else (r.elements[0] if r.elements else None)
@@ -250,6 +310,51 @@ class Reloader:
                 r.problems += e.lines()
         r.warnings = g.warnings(r.session) if hasattr(g, "warnings") else []
         return r
+
+
+def read_bytes(path):
+    try:
+        with open(path, "rb") as f:
+            return f.read()
+    except OSError:
+        return None
+
+
+def parse_tree(data, path):
+    """The root XElement of a .mtlx document's own text (includes not spliced); None for USD or unreadable."""
+    from . import usdstage, xmlreader
+    if data is None or usdstage.is_usd(path):
+        return None
+    try:
+        return xmlreader.parse_text(data, os.path.abspath(path))
+    except MtlxError:
+        return None
+
+
+def value_edits(old, new):
+    """[(old <input>, new <input>)] whose value attribute differs, where the two documents are otherwise the same:
+    the same elements, attributes and lines. None where anything else differs."""
+    out = []
+    stack = [(old, new)]
+    while stack:
+        a, b = stack.pop()
+        if a.tag != b.tag or a.loc != b.loc or len(a.children) != len(b.children):
+            return None
+        if a.attrs != b.attrs:
+            if a.tag != "input":
+                return None
+            if {k: v for k, v in a.attrs.items() if k != "value"} != {k: v for k, v in b.attrs.items() if k != "value"}:
+                return None
+            out.append((a, b))
+        stack.extend(zip(a.children, b.children))
+    return out
+
+
+def _same(a, b):
+    """Equal values as parse_value and the manifest give them (a tuple and a list alike; a bool is not 1)."""
+    a = tuple(a) if isinstance(a, (list, tuple)) else (a,)
+    b = tuple(b) if isinstance(b, (list, tuple)) else (b,)
+    return len(a) == len(b) and all(isinstance(x, bool) == isinstance(y, bool) and x == y for x, y in zip(a, b))
 
 
 # ------------------------------------------------------------------ file watching
@@ -379,6 +484,21 @@ class Loaded:
     prepared: object
     stale: bool = False                 # the document changed since: regenerate before it is shown again
     overrides: dict = field(default_factory=dict)    # uniform -> value set by the property panel
+    values: dict = field(default_factory=dict)       # uniform -> the document's value on the program (manifest's,
+                                                     # then those value edits set)
+
+    def folded(self, uniform):
+        """A public input the specialized shader has as a constant (editing it regenerates)."""
+        return uniform in self.generated.manifest.get("folded", ())
+
+
+def manifest_values(manifest):
+    """{uniform: value} of a manifest's uniforms (vectors as tuples of floats)."""
+    out = {}
+    for u in manifest.get("uniforms", ()):
+        v = u.get("value")
+        out[u["name"]] = tuple(v) if isinstance(v, list) else v
+    return out
 
 
 class Viewer:
@@ -425,6 +545,9 @@ class Viewer:
         self.generation = 0                 # reloads applied
         self.shown_generation = 0           # the reload whose result the last frame drew
         self.last_reload = None             # (seconds from the file's change to the applied result, what happened)
+        self.base = None                    # the document's XML as the drawn shaders were generated from it
+        self.behind = False                 # value edits set since the session was read (it still has the old ones)
+        self._catch_up = False              # read the document again after the next frame (value edits set)
         self.frame_time = 0.0
         self.frames = 0
         self.moving = False
@@ -527,6 +650,7 @@ class Viewer:
         if r.session is not None:
             self.session = r.session
             self.elements = r.elements
+            self.behind = False
             for loaded in self.loaded.values():
                 loaded.stale = True
         if self.element not in self.elements and self.elements:
@@ -534,6 +658,7 @@ class Viewer:
         for name, g in r.shaders.items():
             what.append(self._install(name, g))
         problems = r.problems + self.rig_problems
+        self.base = r.tree if r.session is not None and not problems and self.element in r.shaders else None
         if problems != self.problems:
             for line in problems:
                 self.say(line)
@@ -569,6 +694,7 @@ class Viewer:
                 set_uniform(old.prepared.prog, k, v)
             old.generated, old.stale = g, False
             old.prepared.manifest = g.manifest
+            old.values = manifest_values(g.manifest)
             return "%s: %d value%s set" % (name, len(changed), "" if len(changed) == 1 else "s") if changed else ""
         try:
             prepared = self.renderer.prepare(g.vertex, g.fragment, g.manifest)
@@ -580,13 +706,27 @@ class Viewer:
             return ""
         overrides = {}
         if old is not None:
+            # the panel's values stay where the document's did not change (or the input was a constant: a
+            # specialized shader's folded input the panel set, now kept)
             before, after = initial_values(old.generated.fragment), initial_values(g.fragment)
-            overrides = {k: v for k, v in old.overrides.items() if before.get(k) == after.get(k)}
+            overrides = {k: v for k, v in old.overrides.items() if before.get(k) == after.get(k) or k not in before}
             old.prepared.release()
         for k, v in overrides.items():
             set_uniform(prepared.prog, k, v)
-        self.loaded[name] = Loaded(g, prepared, overrides=overrides)
+        self.loaded[name] = Loaded(g, prepared, overrides=overrides, values=manifest_values(g.manifest))
         return "%s: linked" % name
+
+    def unfold(self, uniform, value):
+        """The panel set an input the specialized shader folded: kept a uniform from now on, the element
+        generated again (the panel's value set on the new program)."""
+        loaded = self.loaded.get(self.element)
+        if loaded is None or not hasattr(self.generator, "keep"):
+            return False
+        self.generator.keep(self.element, uniform)
+        loaded.overrides[uniform] = value
+        loaded.stale = True
+        self.changed()
+        return True
 
     def _rewatch(self):
         """Watch the document's files, the textures of the elements linked so far, the rig and the map."""
@@ -637,8 +777,66 @@ class Viewer:
                 self.changed()
             if path not in textures and path not in (self.lights_file, self.env_file):
                 regenerate = True
-        if regenerate:
+        if regenerate and not (set(changed) == {self.path} and self._value_edit(first)):
             self.request_reload(first)
+
+    def _value_edit(self, changed_at):
+        """A document edit that changed only input values of public uniforms of the shown element's shader: the
+        values set on the linked program, no generation (the session is read again after the next frame).
+        False (nothing done) where in doubt: anything but <input> values changed, an input on a line with
+        other elements, one that feeds no uniform of the shown shader or feeds it otherwise than as its value
+        (its current value is not the uniform's), a folded input of a specialized shader, a type a program
+        cannot be set to, a value that does not read cleanly, a reload in flight, problems shown."""
+        from . import mxtypes
+        loaded = self.loaded.get(self.element)
+        if self.base is None or loaded is None or loaded.stale or not loaded.generated.sources \
+                or self.problems or self.reloader.busy() or not self.keep_program:
+            return False
+        data = read_bytes(self.path)
+        new = parse_tree(data, self.path)
+        if new is None:
+            return False
+        edits = value_edits(self.base, new)
+        if edits is None:
+            return False
+        per_line = {}
+        stack = [new]
+        while stack:
+            el = stack.pop()
+            per_line[(el.loc.file, el.loc.line)] = per_line.get((el.loc.file, el.loc.line), 0) + 1
+            stack.extend(el.children)
+        changes = {}
+        for a, b in edits:
+            where = (a.loc.file, a.loc.line)
+            t = b.get("type")
+            if per_line[where] != 1 or a.get("value") is None or b.get("value") is None or t not in SETTABLE:
+                return False
+            targets = loaded.generated.sources.get((os.path.abspath(a.loc.file), a.loc.line), [])
+            if not targets:
+                return False
+            try:
+                before, after = mxtypes.parse_value(t, a.get("value")), mxtypes.parse_value(t, b.get("value"))
+            except Exception:
+                return False
+            for uniform, utype in targets:
+                if utype != t or uniform not in loaded.values or loaded.folded(uniform) \
+                        or not _same(loaded.values[uniform], before):
+                    return False
+                changes[uniform] = after
+        self.base = new
+        for k, v in changes.items():
+            loaded.overrides.pop(k, None)
+            loaded.values[k] = v
+            set_uniform(loaded.prepared.prog, k, v)
+        for name, other in self.loaded.items():      # other elements may read the same inputs: regenerated
+            if name != self.element:
+                other.stale = True
+        self.behind = self._catch_up = True
+        self.generation += 1
+        self.last_reload = (time.perf_counter() - changed_at, "%s: %d value%s set, not generated" % (
+            self.element, len(changes), "" if len(changes) == 1 else "s"))
+        self.changed()
+        return True
 
     def current(self):
         """The Loaded element to draw (regenerated first if the document changed since it was linked)."""
@@ -646,6 +844,9 @@ class Viewer:
         if name is None:
             return None
         loaded = self.loaded.get(name)
+        if (loaded is None or loaded.stale) and self.behind:
+            self._reload_now()                  # the session has the values before the value edits: read again
+            loaded = self.loaded.get(name)
         if (loaded is None or loaded.stale) and self.session is not None and name in self.elements:
             try:
                 self._install(name, self.generator.shader(self.session, name))
@@ -776,6 +977,9 @@ class Viewer:
         if target is not None:
             self.present(target)
         self.frames += 1
+        if self._catch_up and drew:         # value edits shown: the session reads the document again, off the
+            self._catch_up = False          # drawing thread (the panel, other elements)
+            self.request_reload()
         if drew:                        # the time of a frame that drew (a converged picture is only presented)
             self.ctx.finish()
             self.frame_time = time.perf_counter() - t0
@@ -1091,8 +1295,12 @@ def run(args):
     headless = args.headless_frames is not None
     window = open_window(size, headless)
     from .interface import LIGHTS_LIMIT
+    # no --interface asked: the zero-weight specialization (OurGenerator); --interface complete turns it off
+    asked = getattr(args, "interface", None) is not None or getattr(args, "keep", None) or getattr(args, "keep_file",
+                                                                                                   None)
     generator = OurGenerator(args.library, getattr(args, "usd_options", None), args.strict, args.usd_seed_rules,
-                             getattr(args, "shader_interface", None), LIGHTS_LIMIT if args.lights else 0)
+                             getattr(args, "shader_interface", None) if asked else None,
+                             LIGHTS_LIMIT if args.lights else 0, specialize=not asked)
     viewer = None
     try:
         viewer = Viewer(window.ctx, args.file, size=window.framebuffer_size() if not headless else size,

@@ -205,13 +205,19 @@ class Panel:
         loaded = self.viewer.loaded.get(self.viewer.element)
         if loaded is not None and item.uniform in loaded.overrides:
             return loaded.overrides[item.uniform]
+        if loaded is not None and item.uniform in loaded.values:    # value edits since the session read it
+            return loaded.values[item.uniform]
         return item.value
 
     def set_value(self, item, value):
-        """A panel edit: the uniform set on the linked program (a texture's file rebound), kept as an override."""
+        """A panel edit: the uniform set on the linked program (a texture's file rebound), kept as an override; an
+        input the specialized shader folded into a constant is kept a uniform and the element generated again."""
         v = self.viewer
         loaded = v.loaded.get(v.element)
         if loaded is None:
+            return
+        if loaded.folded(item.uniform):         # a constant in the specialized shader: generated again, kept
+            v.unfold(item.uniform, value)
             return
         loaded.overrides[item.uniform] = value
         if item.mtlx_type == "filename":
@@ -249,7 +255,7 @@ class Panel:
         loaded = v.loaded.get(v.element)
         if loaded is None:
             return
-        values = initial_values(loaded.generated.fragment)
+        values = dict(initial_values(loaded.generated.fragment), **loaded.values)
         for name in loaded.overrides:
             if name in values:
                 set_uniform(loaded.prepared.prog, name, values[name])
