@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from .diagnostics import Loc
 
 
-@dataclass
+@dataclass(slots=True)
 class Source:
     """Where an input's value comes from: a constant, a public uniform, or another node's output."""
     type: str
@@ -29,7 +29,7 @@ class Source:
         return self.node is not None
 
 
-@dataclass
+@dataclass(slots=True)
 class GNode:
     id: str                           # unique within the graph; also the stem of its GLSL variables
     category: str
@@ -40,7 +40,7 @@ class GNode:
     static: dict = field(default_factory=dict)   # string/enum inputs: name -> value (compile time)
 
 
-@dataclass
+@dataclass(slots=True)
 class Uniform:
     name: str
     type: str
