@@ -566,7 +566,9 @@ class Emitter:
         frag += decl.varyings("in", list(self.streams.values()))
         frag.append("layout(location = 0) out vec4 out_color;")
         frag.append("")
-        roots = frag + self.body + [out_expr] + [text for _, text in self.external]
+        roots = frag + self.body + [out_expr]
+        joined = "\n".join(roots)          # one text to scan, not one per line (a `/*` may span lines: then each)
+        roots = ([joined] if "/*" not in joined else roots) + [text for _, text in self.external]
         for rel, text in glsldeps.used_code([(r, read_lib_file(r)[0]) for r in self.files], roots):
             frag.append("// ---- glsl_lib/%s" % rel)
             frag.append((glsldeps.compact(text, rel) if self.compact else text.rstrip()) + "\n")
