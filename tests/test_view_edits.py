@@ -1,0 +1,241 @@
+"""The viewer's quick edits (issue 12, edit-to-pixel latency), drawn offscreen (no display needed):
+
+  - a value edit of the document (only <input> values of the shown shader's public uniforms changed) sets the
+    values on the linked program without running the generator; the picture is the one a fresh viewer draws
+    of the edited document; anything else (a new node, an input the shader does not have as a uniform, one
+    sharing its line with another element, a value that does not read cleanly) generates as before;
+  - the zero-weight specialization: inputs at zero are constants in the viewer's shader (their lobes left out),
+    the picture is `render`'s; an edit moving one off zero generates again with it kept, and it stays kept;
+    the panel's edit of a folded input (Viewer.unfold) does the same with the panel's value.
+"""
+import io
+import os
+import time
+
+import numpy as np
+import pytest
+
+from mtlxgen import compare
+from mtlxgen.view import OffscreenWindow, OurGenerator, Viewer
+
+SIZE = 32
+
+DOC = """<?xml version="1.0"?>
+<materialx version="1.39">
+  <checkerboard name="chk" type="color3">
+    <input name="color1" type="color3" value="0.9, 0.5, 0.1" />
+    <input name="uvtiling" type="vector2" value="8, 8" />
+  </checkerboard>
+  <standard_surface name="SR" type="surfaceshader">
+    <input name="base_color" type="color3" {base_color} />
+    <input name="specular_roughness" type="float" value="{roughness}" />
+    <input name="coat" type="float" value="{coat}" />
+    <input name="emission_color" type="color3" value="0.2, 0.3, 0.4" colorspace="srgb_texture" />
+    <input name="emission" type="float" value="{emission}" />
+  </standard_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def doc(base_color='value="0.8, 0.2, 0.1"', roughness="0.3", coat="0", emission="0"):
+    return DOC.format(base_color=base_color, roughness=roughness, coat=coat, emission=emission)
+
+
+class Counting(OurGenerator):
+    """Our generator, counting the shaders it generates."""
+
+    def __init__(self, **kw):
+        super().__init__(**kw)
+        self.calls = 0
+
+    def shader(self, session, name):
+        self.calls += 1
+        return super().shader(session, name)
+
+
+@pytest.fixture(scope="module")
+def window():
+    pytest.importorskip("watchdog", reason="hot reload needs watchdog (pip install 'mtlxgen[view]')")
+    w = OffscreenWindow((SIZE, SIZE))
+    yield w
+    w.close()
+
+
+def write(path, text):
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def open_viewer(window, path, generator=None, watch=True):
+    return Viewer(window.ctx, str(path), size=(SIZE, SIZE), background=False, samples=16, frame_samples=16,
+                  out=io.StringIO(), watch=watch, generator=generator)
+
+
+def settle(v, done=lambda: True, timeout=60.0):
+    """Frames until done() and the picture is converged with nothing pending."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        v.frame()
+        if done() and v.converged() and not v.reloader.busy() and not v._catch_up:
+            return
+        time.sleep(0.005)
+    raise AssertionError("nothing happened in %.0f s; problems: %s" % (timeout, v.problems))
+
+
+def fresh(window, tmp_path, text, name="fresh.mtlx", generator=None):
+    """The converged picture a new viewer draws of `text`, and its shader's manifest."""
+    path = tmp_path / name
+    write(path, text)
+    v = open_viewer(window, path, generator=generator, watch=False)
+    try:
+        settle(v)
+        return v.image().copy(), v.loaded[v.element].generated.manifest
+    finally:
+        v.close()
+
+
+def edit(v, path, text):
+    g = v.generation
+    write(path, text)
+    settle(v, lambda: v.generation > g)
+
+
+def test_value_edit_sets_the_uniform_without_generating(tmp_path, window):
+    path = tmp_path / "live.mtlx"
+    write(path, doc())
+    gen = Counting()
+    v = open_viewer(window, path, gen)
+    try:
+        settle(v)
+        prepared, calls = v.loaded["M"].prepared, gen.calls
+        g = v.generation
+        write(path, doc(base_color='value="0.1, 0.6, 0.3"', roughness="0.55"))
+        deadline = time.time() + 30
+        while v.generation == g and time.time() < deadline:
+            v.poll()                  # what frame() does first (a frame then asks the session to read it again)
+            time.sleep(0.005)
+        assert v.generation == g + 1 and gen.calls == calls          # set, nothing generated ...
+        assert "M: 2 values set, not generated" == v.last_reload[1]
+        assert v.loaded["M"].prepared is prepared
+        assert v.loaded["M"].values["SR_base_color"] == (0.1, 0.6, 0.3)
+        settle(v)                     # ... then the session reads the document again (off the drawing thread)
+        assert not v.behind and v.loaded["M"].prepared is prepared       # the same text: nothing relinked
+        img = v.image().copy()
+        want, _ = fresh(window, tmp_path, doc(base_color='value="0.1, 0.6, 0.3"', roughness="0.55"))
+        assert np.abs(img - want).max() <= 1e-6
+
+        # an input whose value is converted from its colour space in the shader: the value set is the authored
+        # one, the picture a fresh viewer's
+        edit(v, path, doc(base_color='value="0.1, 0.6, 0.3"', roughness="0.55", emission="0.5"))   # folded: linked
+        assert v.loaded["M"].prepared is not prepared
+        prepared, calls = v.loaded["M"].prepared, gen.calls
+        text = doc(base_color='value="0.1, 0.6, 0.3"', roughness="0.55", emission="0.5").replace(
+            'value="0.2, 0.3, 0.4" colorspace', 'value="0.7, 0.2, 0.2" colorspace')
+        edit(v, path, text)
+        assert v.last_reload[1] == "M: 1 value set, not generated" and v.loaded["M"].prepared is prepared
+        img = v.image().copy()
+        want, _ = fresh(window, tmp_path, text, "fresh2.mtlx")
+        assert np.abs(img - want).max() <= 1e-6
+    finally:
+        v.close()
+
+
+@pytest.mark.parametrize("before, after", [
+    # a new node feeding base_color: structure changed
+    (doc(), doc(base_color='nodename="chk"')),
+    # the checkerboard's colour: an input of a node the shown shader does not read
+    (doc(), doc().replace('value="0.9, 0.5, 0.1"', 'value="0.2, 0.5, 0.1"')),
+    # an input on the line of another element
+    (doc().replace('<input name="coat" type="float" value="0" />', ''
+                   ).replace('<standard_surface name="SR" type="surfaceshader">',
+                             '<standard_surface name="SR" type="surfaceshader"><input name="coat" type="float" '
+                             'value="0.25" />'),
+     doc().replace('<input name="coat" type="float" value="0" />', ''
+                   ).replace('<standard_surface name="SR" type="surfaceshader">',
+                             '<standard_surface name="SR" type="surfaceshader"><input name="coat" type="float" '
+                             'value="0.5" />')),
+    # a value MaterialX reads past a slip (text after the number): read with its warning, by the generator
+    (doc(roughness="0.3"), doc(roughness="0.4x")),
+])
+def test_other_edits_generate(tmp_path, window, before, after):
+    path = tmp_path / "other.mtlx"
+    write(path, before)
+    gen = Counting()
+    v = open_viewer(window, path, gen)
+    try:
+        settle(v)
+        calls = gen.calls
+        edit(v, path, after)
+        assert gen.calls > calls and "not generated" not in (v.last_reload or (0, ""))[1]
+        img = v.image().copy()
+    finally:
+        v.close()
+    want, _ = fresh(window, tmp_path, after)
+    assert np.abs(img - want).max() <= 1e-6
+
+
+def test_specialized_shader_folds_zero_inputs_and_keeps_them_once_moved(tmp_path, window):
+    path = tmp_path / "special.mtlx"
+    write(path, doc())
+    gen = Counting()
+    v = open_viewer(window, path, gen)
+    try:
+        settle(v)
+        m = v.loaded["M"].generated.manifest
+        assert m["interface"] == "reduced" and "SR_coat" in m["folded"] and "SR_coat" not in m["kept"]
+        assert "SR_base_color" in m["kept"] and "SR_specular_roughness" in m["kept"]
+        # the picture is render's (the complete interface), but for float rounding
+        complete, cm = fresh(window, tmp_path, doc(), generator=OurGenerator(specialize=False))
+        assert cm["interface"] == "complete" and "folded" not in cm
+        assert len(v.loaded["M"].generated.fragment) < 0.7 * len(fresh_fragment(window, tmp_path, doc()))
+        p = compare.parity(v.image(), complete)
+        assert p.mean <= 0.01 and np.abs(v.image() - complete).max() <= 1e-3, p
+
+        # coat moved off zero: not a uniform, so generated again with it kept ...
+        prepared, calls = v.loaded["M"].prepared, gen.calls
+        edit(v, path, doc(coat="0.6"))
+        assert gen.calls > calls and v.loaded["M"].prepared is not prepared
+        assert "SR_coat" in v.loaded["M"].generated.manifest["kept"]
+        want, _ = fresh(window, tmp_path, doc(coat="0.6"), generator=OurGenerator(specialize=False))
+        assert np.abs(v.image() - want).max() <= 1e-3
+        # ... and kept: back to zero and off again are values set
+        prepared, calls = v.loaded["M"].prepared, gen.calls
+        edit(v, path, doc(coat="0"))
+        edit(v, path, doc(coat="0.3"))
+        assert v.loaded["M"].prepared is prepared and v.last_reload[1] == "M: 1 value set, not generated"
+        want, _ = fresh(window, tmp_path, doc(coat="0.3"), generator=OurGenerator(specialize=False))
+        assert np.abs(v.image() - want).max() <= 1e-3
+    finally:
+        v.close()
+
+
+def fresh_fragment(window, tmp_path, text):
+    path = tmp_path / "complete.mtlx"
+    write(path, text)
+    gen = OurGenerator(specialize=False)
+    return gen.shader(gen.open(str(path), "fis"), "M").fragment
+
+
+def test_unfold_keeps_the_input_with_the_panels_value(tmp_path, window):
+    """The panel set a folded input (its set_value calls Viewer.unfold): generated again with it a uniform,
+    the panel's value drawn and kept as the panel's (Save writes it)."""
+    path = tmp_path / "unfold.mtlx"
+    write(path, doc())
+    v = open_viewer(window, path, watch=False)
+    try:
+        settle(v)
+        loaded = v.loaded["M"]
+        assert loaded.folded("SR_coat")
+        assert v.unfold("SR_coat", 0.6)
+        settle(v)
+        loaded = v.loaded["M"]
+        assert not loaded.folded("SR_coat") and "SR_coat" in loaded.generated.manifest["kept"]
+        assert loaded.overrides == {"SR_coat": 0.6} and loaded.prepared.prog["SR_coat"].value == pytest.approx(0.6)
+        img = v.image().copy()
+    finally:
+        v.close()
+    want, _ = fresh(window, tmp_path, doc(coat="0.6"), generator=OurGenerator(specialize=False))
+    assert np.abs(img - want).max() <= 1e-3
