@@ -8,7 +8,10 @@ ours:      python cli.py generate FILE --element ELEMENT -o TMP       (what the 
 MaterialX: python -c '...'  import MaterialX and its GenGlsl, load the standard libraries, read FILE (setDataLibrary), generate
            ELEMENT with GlslShaderGenerator in a GenContext, write its vertex and pixel code to TMP
 Both with this interpreter (sys.executable, not a shim), the runs taking turns; ours after one warming run
-(its library cache written). Also `mtlxgen --help`, against `python -c pass` (the interpreter alone).
+(its library cache written, and its modules' bytecode: the warming run may write __pycache__ even where
+PYTHONDONTWRITEBYTECODE is set, as an installed package has its bytecode compiled when it is installed; else
+every run would compile mtlxgen from source while MaterialX's modules are compiled code). Also `mtlxgen
+--help`, against `python -c pass` (the interpreter alone).
 Prints medians and the ratio ours / MaterialX (target <= 1.0). Timings only: nothing asserts.
 """
 import argparse
@@ -65,9 +68,9 @@ def first_element(path):
     return found[0].getNamePath() if found else None
 
 
-def timed(cmd):
+def timed(cmd, env=None):
     t = time.perf_counter()
-    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=ROOT, env=env)
     elapsed = time.perf_counter() - t
     if r.returncode != 0:
         raise RuntimeError("%s: exit %d: %s" % (" ".join(cmd[:4]), r.returncode, r.stderr.strip()[-300:]))
@@ -75,7 +78,8 @@ def timed(cmd):
 
 
 def compare(name, ours, theirs, runs):
-    timed(ours)                                     # warms our library cache and the page cache for both
+    writing = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    timed(ours, writing)                            # warms our library cache, bytecode and the page cache for both
     timed(theirs)
     a, b = [], []
     for _ in range(runs):

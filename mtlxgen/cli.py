@@ -473,7 +473,14 @@ def cmd_batch(args):
     return status
 
 
-def build_parser():
+COMMANDS = ("generate", "render", "info", "view", "web", "three", "golden", "report", "batch")
+
+
+def build_parser(command=None):
+    """The command line's parser; with `command` (the first argument, a command's name), only that command's
+    subparser is built (what it parses and prints is the same: each command parses its own arguments)."""
+    if command not in COMMANDS:         # --help, or no such command: every command (listed, or offered)
+        command = None
     ap = _Parser(prog="mtlxgen", description="MaterialX documents to GLSL shaders")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
@@ -523,68 +530,72 @@ def build_parser():
                             "text after its number, a color3 input fed by a vector3, an input its nodedef lacks) is "
                             "reported and that element not written (default: read as MaterialX reads it, warned)")
 
-    p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
-    common(p)
-    generation(p)
-    p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
-    p.add_argument("--element", metavar="NAME", type=_name,
-                   help="only this element (name path; for a USD stage, a material's prim path or name)")
-    p.add_argument("-v", "--verbose", action="store_true", help="print the paths written")
-    p.set_defaults(func=cmd_generate)
+    if command in (None, "generate"):
+        p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
+        common(p)
+        generation(p)
+        p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
+        p.add_argument("--element", metavar="NAME", type=_name,
+                       help="only this element (name path; for a USD stage, a material's prim path or name)")
+        p.add_argument("-v", "--verbose", action="store_true", help="print the paths written")
+        p.set_defaults(func=cmd_generate)
 
-    p = sub.add_parser("render", help="render each element on a sphere to NAME.png (sRGB) and NAME.exr (linear)")
-    common(p)
-    generation(p)
-    p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
-    p.add_argument("--element", metavar="NAME", type=_name,
-                   help="only this element (name path; for a USD stage, a material's prim path or name)")
-    p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=256, metavar="N",
-                   help="image width and height in pixels, 1 to %d (default: 256)" % MAX_SIZE)
-    p.add_argument("--env", metavar="FILE", type=_readable_file,
-                   help="lat-long HDR/EXR environment (default: built-in sky)")
-    p.add_argument("--lights", metavar="RIG.mtlx", type=_readable_file,
-                   help="bind a light-rig document's point/directional/spot lights to u_lightData")
-    p.add_argument("--geometry", choices=("sphere", "stage"), default="sphere",
-                   help="stage (USD stages): also draw the stage's own meshes with their materials, from its camera "
-                        "or a framing one, to DIR/STEM__stage.png (default: the sphere per material only)")
-    p.set_defaults(func=cmd_render)
+    if command in (None, "render"):
+        p = sub.add_parser("render", help="render each element on a sphere to NAME.png (sRGB) and NAME.exr (linear)")
+        common(p)
+        generation(p)
+        p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
+        p.add_argument("--element", metavar="NAME", type=_name,
+                       help="only this element (name path; for a USD stage, a material's prim path or name)")
+        p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=256, metavar="N",
+                       help="image width and height in pixels, 1 to %d (default: 256)" % MAX_SIZE)
+        p.add_argument("--env", metavar="FILE", type=_readable_file,
+                       help="lat-long HDR/EXR environment (default: built-in sky)")
+        p.add_argument("--lights", metavar="RIG.mtlx", type=_readable_file,
+                       help="bind a light-rig document's point/directional/spot lights to u_lightData")
+        p.add_argument("--geometry", choices=("sphere", "stage"), default="sphere",
+                       help="stage (USD stages): also draw the stage's own meshes with their materials, from its "
+                            "camera or a framing one, to DIR/STEM__stage.png (default: the sphere per material only)")
+        p.set_defaults(func=cmd_render)
 
-    p = sub.add_parser("info", help="list elements, their nodes and unresolved problems")
-    common(p)
-    p.set_defaults(func=cmd_info)
+    if command in (None, "info"):
+        p = sub.add_parser("info", help="list elements, their nodes and unresolved problems")
+        common(p)
+        p.set_defaults(func=cmd_info)
 
-    p = sub.add_parser("view", help="a live window drawing the document's elements, redrawn as it is edited")
-    common(p)
-    shader_interface(p)
-    p.add_argument("--element", metavar="NAME", type=_name, help="the element to show first (Tab cycles them)")
-    p.add_argument("--env", metavar="FILE", type=_readable_file,
-                   help="lat-long HDR/EXR environment (default: built-in sky)")
-    p.add_argument("--lights", metavar="RIG.mtlx", type=_readable_file,
-                   help="bind a light-rig document's point/directional/spot lights (L toggles them)")
-    p.add_argument("--geometry", type=_geometry, default="sphere", metavar="SHAPE",
-                   help="sphere (default, render's), plane, cube, shaderball, or a mesh file (OBJ, PLY, glTF, ...)")
-    p.add_argument("--size", type=_int_in(1, MAX_SIZE), nargs=2, default=(512, 512), metavar=("W", "H"),
-                   help="window size in pixels (default: 512 512)")
-    p.add_argument("--samples", type=_samples, default=256, metavar="N",
-                   help="environment samples of the converged picture, a power of two (default: 256; S steps "
-                        "through 16 .. 4096)")
-    p.add_argument("--frame-samples", type=_samples, default=16, metavar="N",
-                   help="samples per accumulated frame while the camera is still (default: 16)")
-    p.add_argument("--no-progressive", action="store_true",
-                   help="draw all --samples in every frame instead of accumulating frames")
-    p.add_argument("--background", action=argparse.BooleanOptionalAction, default=True,
-                   help="draw the environment behind the object (B toggles it; default: on)")
-    p.add_argument("-o", "--output", default=".", metavar="DIR", type=_output_dir,
-                   help="where screenshots (key C) go, named as render names them (default: .)")
-    p.add_argument("--headless-frames", type=_int_in(1, 1000000), default=None, metavar="N",
-                   help="draw N frames and exit: in a window where a display is (Xvfb too), else offscreen")
-    p.add_argument("--screenshot", type=_output_file, default=None, metavar="FILE",
-                   help="with --headless-frames: write the last frame to FILE (.png; and .exr beside it)")
-    p.add_argument("--capture-window", type=_output_file, default=None, metavar="FILE",
-                   help="with --headless-frames: also write what the window shows (panel included) to FILE.png")
-    p.add_argument("--no-watch", action="store_true", help="do not reload when the files change (R reloads)")
-    p.add_argument("--no-panel", action="store_true", help="no property panel")
-    p.set_defaults(func=cmd_view)
+    if command in (None, "view"):
+        p = sub.add_parser("view", help="a live window drawing the document's elements, redrawn as it is edited")
+        common(p)
+        shader_interface(p)
+        p.add_argument("--element", metavar="NAME", type=_name, help="the element to show first (Tab cycles them)")
+        p.add_argument("--env", metavar="FILE", type=_readable_file,
+                       help="lat-long HDR/EXR environment (default: built-in sky)")
+        p.add_argument("--lights", metavar="RIG.mtlx", type=_readable_file,
+                       help="bind a light-rig document's point/directional/spot lights (L toggles them)")
+        p.add_argument("--geometry", type=_geometry, default="sphere", metavar="SHAPE",
+                       help="sphere (default, render's), plane, cube, shaderball, or a mesh file (OBJ, PLY, glTF, ...)")
+        p.add_argument("--size", type=_int_in(1, MAX_SIZE), nargs=2, default=(512, 512), metavar=("W", "H"),
+                       help="window size in pixels (default: 512 512)")
+        p.add_argument("--samples", type=_samples, default=256, metavar="N",
+                       help="environment samples of the converged picture, a power of two (default: 256; S steps "
+                            "through 16 .. 4096)")
+        p.add_argument("--frame-samples", type=_samples, default=16, metavar="N",
+                       help="samples per accumulated frame while the camera is still (default: 16)")
+        p.add_argument("--no-progressive", action="store_true",
+                       help="draw all --samples in every frame instead of accumulating frames")
+        p.add_argument("--background", action=argparse.BooleanOptionalAction, default=True,
+                       help="draw the environment behind the object (B toggles it; default: on)")
+        p.add_argument("-o", "--output", default=".", metavar="DIR", type=_output_dir,
+                       help="where screenshots (key C) go, named as render names them (default: .)")
+        p.add_argument("--headless-frames", type=_int_in(1, 1000000), default=None, metavar="N",
+                       help="draw N frames and exit: in a window where a display is (Xvfb too), else offscreen")
+        p.add_argument("--screenshot", type=_output_file, default=None, metavar="FILE",
+                       help="with --headless-frames: write the last frame to FILE (.png; and .exr beside it)")
+        p.add_argument("--capture-window", type=_output_file, default=None, metavar="FILE",
+                       help="with --headless-frames: also write what the window shows (panel included) to FILE.png")
+        p.add_argument("--no-watch", action="store_true", help="do not reload when the files change (R reloads)")
+        p.add_argument("--no-panel", action="store_true", help="no property panel")
+        p.set_defaults(func=cmd_view)
 
     def web_options(p, what):
         common(p)
@@ -600,15 +611,17 @@ def build_parser():
                        help="environment samples per lobe, u_envRadianceSamples (default: 64, as render)")
         p.set_defaults(target="essl")
 
-    p = sub.add_parser("web", help="a self-contained WebGL2 page per element (NAME.html): render's sphere, camera and "
-                                   "environment, orbit controls; works opened from file://")
-    web_options(p, "embedded in the page")
-    p.set_defaults(func=cmd_web)
+    if command in (None, "web"):
+        p = sub.add_parser("web", help="a self-contained WebGL2 page per element (NAME.html): render's sphere, camera "
+                                       "and environment, orbit controls; works opened from file://")
+        web_options(p, "embedded in the page")
+        p.set_defaults(func=cmd_web)
 
-    p = sub.add_parser("three", help="a three.js ES module per element (NAME.js: createMaterial(THREE) returns a "
-                                     "RawShaderMaterial), the shared mtlxgen_three.js, an example page NAME.html")
-    web_options(p, "the example pages light with (written as environment.exr)")
-    p.set_defaults(func=cmd_three)
+    if command in (None, "three"):
+        p = sub.add_parser("three", help="a three.js ES module per element (NAME.js: createMaterial(THREE) returns a "
+                                         "RawShaderMaterial), the shared mtlxgen_three.js, an example page NAME.html")
+        web_options(p, "the example pages light with (written as environment.exr)")
+        p.set_defaults(func=cmd_three)
 
     def pool(p):
         p.add_argument("-j", "--workers", type=_int_in(1, MAX_WORKERS), default=None, metavar="N",
@@ -622,69 +635,75 @@ def build_parser():
                             "text after its number, a color3 input fed by a vector3, an input its nodedef lacks) is "
                             "reported and that element not written (default: read as MaterialX reads it, warned)")
 
-    p = sub.add_parser("golden", help="golden-image regression: check renders against golden_images/, or update them")
-    gsub = p.add_subparsers(dest="golden_command", metavar="{check,update}", required=True)
-    g = gsub.add_parser("check", help="render and compare with the goldens; exit 1 on any difference")
-    g.add_argument("paths", nargs="*", metavar="PATH",
-                   help=".mtlx files, USD stages, directories (searched for both), or FILE:ELEMENT (default: every "
-                        "golden in the index)")
-    g.add_argument("--goldens", default=None, metavar="DIR", type=_existing_dir,
-                   help="golden directory (default: golden_images)")
-    g.add_argument("-o", "--output", default=os.path.join("out", "golden"), metavar="DIR", type=_output_dir,
-                   help="where results.json, report.html and the new/golden/diff images of failures go "
-                        "(default: out/golden)")
-    g.add_argument("--threshold", type=_int_in(0, 255), default=2, metavar="STEPS",
-                   help="8-bit sRGB steps a pixel may differ by, 0 to 255 (default: 2)")
-    g.add_argument("--max-fraction", type=_float_in(0.0, 1.0), default=0.0, metavar="F",
-                   help="share of pixels allowed over the threshold, 0 to 1 (default: 0)")
-    g.add_argument("--flip-limit", type=_float_in(0.0, 1.0), default=None, metavar="F",
-                   help="also fail when the mean FLIP error (0 to 1) exceeds F (default: FLIP is reported only)")
-    g.add_argument("--no-flip", action="store_true", help="skip the FLIP score")
-    g.add_argument("--timings", action="store_true", help="print per-material timings")
-    g.add_argument("-v", "--verbose", action="store_true", help="list passing materials too")
-    pool(g)
-    g.set_defaults(func=cmd_golden_check)
-    g = gsub.add_parser("update", help="render and rewrite goldens (and their index entries)")
-    g.add_argument("paths", nargs="*", metavar="PATH",
-                   help=".mtlx files, USD stages, directories (searched for both), or FILE:ELEMENT (default: every "
-                        "golden in the index)")
-    g.add_argument("--goldens", default="golden_images", metavar="DIR", type=_output_dir)
-    g.add_argument("--size", type=_int_in(1, MAX_SIZE), default=None, metavar="N",
-                   help="image size, 1 to %d (default: what each golden recorded, else 128)" % MAX_SIZE)
-    g.add_argument("--env", metavar="FILE", type=_readable_file,
-                   help="lat-long HDR/EXR environment (default: recorded, else built-in sky)")
-    g.add_argument("-v", "--verbose", action="store_true", help="list unchanged goldens too")
-    pool(g)
-    g.set_defaults(func=cmd_golden_update)
+    if command in (None, "golden"):
+        p = sub.add_parser("golden",
+                           help="golden-image regression: check renders against golden_images/, or update them")
+        gsub = p.add_subparsers(dest="golden_command", metavar="{check,update}", required=True)
+        g = gsub.add_parser("check", help="render and compare with the goldens; exit 1 on any difference")
+        g.add_argument("paths", nargs="*", metavar="PATH",
+                       help=".mtlx files, USD stages, directories (searched for both), or FILE:ELEMENT (default: every "
+                            "golden in the index)")
+        g.add_argument("--goldens", default=None, metavar="DIR", type=_existing_dir,
+                       help="golden directory (default: golden_images)")
+        g.add_argument("-o", "--output", default=os.path.join("out", "golden"), metavar="DIR", type=_output_dir,
+                       help="where results.json, report.html and the new/golden/diff images of failures go "
+                            "(default: out/golden)")
+        g.add_argument("--threshold", type=_int_in(0, 255), default=2, metavar="STEPS",
+                       help="8-bit sRGB steps a pixel may differ by, 0 to 255 (default: 2)")
+        g.add_argument("--max-fraction", type=_float_in(0.0, 1.0), default=0.0, metavar="F",
+                       help="share of pixels allowed over the threshold, 0 to 1 (default: 0)")
+        g.add_argument("--flip-limit", type=_float_in(0.0, 1.0), default=None, metavar="F",
+                       help="also fail when the mean FLIP error (0 to 1) exceeds F (default: FLIP is reported only)")
+        g.add_argument("--no-flip", action="store_true", help="skip the FLIP score")
+        g.add_argument("--timings", action="store_true", help="print per-material timings")
+        g.add_argument("-v", "--verbose", action="store_true", help="list passing materials too")
+        pool(g)
+        g.set_defaults(func=cmd_golden_check)
+        g = gsub.add_parser("update", help="render and rewrite goldens (and their index entries)")
+        g.add_argument("paths", nargs="*", metavar="PATH",
+                       help=".mtlx files, USD stages, directories (searched for both), or FILE:ELEMENT (default: every "
+                            "golden in the index)")
+        g.add_argument("--goldens", default="golden_images", metavar="DIR", type=_output_dir)
+        g.add_argument("--size", type=_int_in(1, MAX_SIZE), default=None, metavar="N",
+                       help="image size, 1 to %d (default: what each golden recorded, else 128)" % MAX_SIZE)
+        g.add_argument("--env", metavar="FILE", type=_readable_file,
+                       help="lat-long HDR/EXR environment (default: recorded, else built-in sky)")
+        g.add_argument("-v", "--verbose", action="store_true", help="list unchanged goldens too")
+        pool(g)
+        g.set_defaults(func=cmd_golden_update)
 
-    p = sub.add_parser("report", help="one self-contained HTML page from a golden check's output directory")
-    p.add_argument("dir", metavar="DIR", type=_existing_dir,
-                   help="a `golden check` output directory (or a directory of .mtlx documents and USD stages to check)")
-    p.add_argument("-o", "--output", metavar="FILE", type=_output_file, help="HTML file (default: DIR/report.html)")
-    p.add_argument("--goldens", default=None, metavar="DIR", type=_existing_dir,
-                   help="golden directory (default: golden_images)")
-    p.add_argument("--checks", default=os.path.join("out", "golden"), metavar="DIR", type=_output_dir,
-                   help="where to check a directory of materials first (default: out/golden)")
-    pool(p)
-    p.set_defaults(func=cmd_report)
+    if command in (None, "report"):
+        p = sub.add_parser("report", help="one self-contained HTML page from a golden check's output directory")
+        p.add_argument("dir", metavar="DIR", type=_existing_dir,
+                       help="a `golden check` output directory (or a directory of .mtlx documents and USD stages to "
+                            "check)")
+        p.add_argument("-o", "--output", metavar="FILE", type=_output_file, help="HTML file (default: DIR/report.html)")
+        p.add_argument("--goldens", default=None, metavar="DIR", type=_existing_dir,
+                       help="golden directory (default: golden_images)")
+        p.add_argument("--checks", default=os.path.join("out", "golden"), metavar="DIR", type=_output_dir,
+                       help="where to check a directory of materials first (default: out/golden)")
+        pool(p)
+        p.set_defaults(func=cmd_report)
 
-    p = sub.add_parser("batch", help="render every .mtlx document and USD stage under directories with all cores; "
-                                          "print per-material timings")
-    p.add_argument("paths", nargs="+", metavar="PATH",
-                   help="directories (searched for .mtlx documents and USD stages), files, or FILE:ELEMENT")
-    p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
-    p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=128, metavar="N",
-                   help="image size, 1 to %d (default: 128)" % MAX_SIZE)
-    p.add_argument("--env", metavar="FILE", type=_readable_file,
-                   help="lat-long HDR/EXR environment (default: built-in sky)")
-    pool(p)
-    p.set_defaults(func=cmd_batch)
+    if command in (None, "batch"):
+        p = sub.add_parser("batch", help="render every .mtlx document and USD stage under directories with all cores; "
+                                              "print per-material timings")
+        p.add_argument("paths", nargs="+", metavar="PATH",
+                       help="directories (searched for .mtlx documents and USD stages), files, or FILE:ELEMENT")
+        p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
+        p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=128, metavar="N",
+                       help="image size, 1 to %d (default: 128)" % MAX_SIZE)
+        p.add_argument("--env", metavar="FILE", type=_readable_file,
+                       help="lat-long HDR/EXR environment (default: built-in sky)")
+        pool(p)
+        p.set_defaults(func=cmd_batch)
     return ap
 
 
 def main(argv=None):
     try:
-        args = build_parser().parse_args(argv)
+        argv = sys.argv[1:] if argv is None else argv
+        args = build_parser(argv[0] if argv else None).parse_args(argv)
     except SystemExit as e:            # --help (0) or a usage error (1, already printed): a status, not an exception
         return e.code
     try:

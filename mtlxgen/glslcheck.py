@@ -6,7 +6,6 @@ swizzle a float lacks. So a shader holding such code is compiled with a headless
 process, made on first need), and a compile error becomes a problem at the implementation whose lines the
 error points at. Where no OpenGL context can be made the check is skipped: generation needs none otherwise.
 """
-import concurrent.futures
 import os
 import re
 
@@ -20,6 +19,7 @@ _WORKER = {}            # pid -> (one-thread executor, [context or None once tri
 def _worker():
     pid = os.getpid()       # a forked child gets a thread (and a context) of its own
     if pid not in _WORKER:
+        import concurrent.futures      # here, not at the top: most shaders hold no document GLSL (logging, 5 ms)
         _WORKER.clear()
         _WORKER[pid] = (concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="mtlxgen-glslcheck"), [])
     return _WORKER[pid]
