@@ -28,7 +28,10 @@ from .uniformvalues import initial_values, initializers, set_uniform, skeleton  
 
 SETTABLE = ("float", "integer", "boolean", "color3", "color4", "vector2", "vector3", "vector4")   # value edits
 SAMPLE_STEPS = (16, 64, 256, 1024, 4096)    # the sample counts the S key steps through (the converged estimate)
-MOVING_SAMPLES = 8                          # samples per frame while the camera moves or an edit is shown first
+MOVING_SAMPLES = 8                          # samples per frame while the camera moves
+EDIT_SAMPLES = 1                            # samples of the first frame after a change (an edit, a setting): one
+                                            # sample a lobe filtered for one (a smooth, blurrier estimate), then the
+                                            # accumulation refines it
 FRAME_SAMPLES = 16                          # samples per accumulated frame while the camera is still
 
 KEYS = [("Tab / Shift+Tab", "next / previous element"), ("E", "environment: fis / prefiltered"),
@@ -387,8 +390,8 @@ class Watcher:
                         p = os.path.abspath(os.fsdecode(p))
                         with watcher._lock:
                             hit = p in watcher._paths
-                            if hit:
-                                watcher._changed[p] = now
+                            if hit:         # closed after writing, or moved into place: the save is complete
+                                watcher._changed[p] = (now, event.event_type in ("closed", "moved"))
                         if hit and watcher.wake is not None:
                             watcher.wake()
 
@@ -403,10 +406,12 @@ class Watcher:
                     pass
 
     def changed(self, settle=0.02):
-        """Paths whose last event is at least `settle` seconds old (a save is often several events)."""
+        """{path: time of its last event} of the paths whose save is complete: the last event closed the file
+        after writing or moved it into place, or is at least `settle` seconds old (a save is often several
+        events: truncated, written, closed)."""
         now = time.perf_counter()
         with self._lock:
-            ready = {p: t for p, t in self._changed.items() if now - t >= settle}
+            ready = {p: t for p, (t, done) in self._changed.items() if done or now - t >= settle}
             for p in ready:
                 del self._changed[p]
         return ready
@@ -552,6 +557,8 @@ class Viewer:
         self.frames = 0
         self.moving = False
         self._moved = False
+        self._camera_moved = False
+        self._quick = EDIT_SAMPLES          # samples of the quick frame drawn now (moving)
         self._preview = False               # the frame in the buffer is a quick one of few samples
         self.wake = None                    # called from other threads when there is something to draw
         self.accumulated = 0                # frames in the accumulation buffer
@@ -909,11 +916,13 @@ class Viewer:
         self.say("frame %.1f ms (%.1f fps), %s" % (ms, 1000.0 / ms if ms > 0 else 0.0, self.sample_status()))
 
     def moved(self):
-        """The camera moved this frame: draw with few samples, start accumulating again once still."""
-        self._moved = True
+        """The camera moved this frame: draw with few samples (MOVING_SAMPLES), start accumulating again once
+        still."""
+        self._moved = self._camera_moved = True
 
     def changed(self):
-        """What is drawn changed (an edit, a setting): a quick frame of few samples first, as for a move."""
+        """What is drawn changed (an edit, a setting): a quick frame of EDIT_SAMPLES first, then the
+        accumulation."""
         self._moved = True
 
     # -------------------------------------------------------------- drawing
@@ -924,7 +933,7 @@ class Viewer:
         if not lit:
             return 1, 1
         if self.moving:
-            return MOVING_SAMPLES, 1
+            return self._quick, 1
         if not self.progressive:
             return self.samples, 1
         n = min(self.frame_samples, self.samples)
@@ -958,6 +967,8 @@ class Viewer:
         t0 = time.perf_counter()
         self.poll()
         self.moving, self._moved = self._moved, False
+        self._quick = MOVING_SAMPLES if self._camera_moved else EDIT_SAMPLES
+        self._camera_moved = False
         if self.moving:
             self.accumulated = 0
         loaded = self.current()
@@ -969,7 +980,8 @@ class Viewer:
             if self.accumulated < frames:
                 self._draw_once(loaded, n, frames)
                 self.shown_generation = self.generation
-                self._preview = self.moving and frames == 1 and n == MOVING_SAMPLES
+                self._preview = self.moving and frames == 1 and n == self._quick and \
+                    "u_envRadianceSamples" in loaded.prepared.prog
                 drew = True
         elif self.accumulated == 0:
             self._targets["sum"].clear(0.0, 0.0, 0.0, 0.0)
