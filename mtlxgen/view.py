@@ -336,20 +336,22 @@ def parse_tree(data, path):
 
 def value_edits(old, new):
     """[(old <input>, new <input>)] whose value attribute differs, where the two documents are otherwise the same:
-    the same elements, attributes and lines. None where anything else differs."""
+    the same elements, attributes and lines. None where anything else differs, or where a value changed inside a
+    nodedef or a nodegraph implementing one (a default or an implementation's value: read as constants too)."""
     out = []
-    stack = [(old, new)]
+    stack = [(old, new, False)]
     while stack:
-        a, b = stack.pop()
+        a, b, definition = stack.pop()
         if a.tag != b.tag or a.loc != b.loc or len(a.children) != len(b.children):
             return None
         if a.attrs != b.attrs:
-            if a.tag != "input":
+            if a.tag != "input" or definition:
                 return None
             if {k: v for k, v in a.attrs.items() if k != "value"} != {k: v for k, v in b.attrs.items() if k != "value"}:
                 return None
             out.append((a, b))
-        stack.extend(zip(a.children, b.children))
+        definition = definition or a.tag == "nodedef" or (a.tag == "nodegraph" and a.get("nodedef") is not None)
+        stack.extend((x, y, definition) for x, y in zip(a.children, b.children))
     return out
 
 

@@ -143,7 +143,35 @@ def test_value_edit_sets_the_uniform_without_generating(tmp_path, window):
         v.close()
 
 
+TINT = """<?xml version="1.0"?>
+<materialx version="1.39">
+  <nodedef name="ND_tint" node="tint">
+    <input name="amount" type="float" value="{amount}" />
+    <output name="out" type="color3" />
+  </nodedef>
+  <nodegraph name="NG_tint" nodedef="ND_tint">
+    <multiply name="m" type="color3">
+      <input name="in1" type="color3" value="{colour}" />
+      <input name="in2" type="float" interfacename="amount" />
+    </multiply>
+    <output name="out" type="color3" nodename="m" />
+  </nodegraph>
+  <tint name="t" type="color3" />
+  <surface_unlit name="SR" type="surfaceshader">
+    <input name="emission_color" type="color3" nodename="t" />
+  </surface_unlit>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+</materialx>
+"""
+
+
 @pytest.mark.parametrize("before, after", [
+    # a nodedef's default (the node leaves it unauthored: a uniform; a default may be read as a constant too)
+    (TINT.format(amount="0.5", colour="1, 0.5, 0.2"), TINT.format(amount="0.8", colour="1, 0.5, 0.2")),
+    # a value inside a nodegraph implementing a nodedef (a constant of the implementation)
+    (TINT.format(amount="0.5", colour="1, 0.5, 0.2"), TINT.format(amount="0.5", colour="0.2, 0.5, 1")),
     # a new node feeding base_color: structure changed
     (doc(), doc(base_color='nodename="chk"')),
     # the checkerboard's colour: an input of a node the shown shader does not read
