@@ -10,9 +10,16 @@
     GlfwWindow    a window (glfw) feeding mouse and keys to the Viewer; OffscreenWindow: a framebuffer in a
                   headless context for --headless-frames without a display.
 
-A shader whose text differs from the one drawn only in its uniforms' initial values (an input value edited) is
-not relinked: the new values are set on the linked program. Anything else is linked anew; a document with
+A document edit that changes only <input> values of the shown shader's public uniforms (the document's XML
+compared with the one the drawn shader came from) sets the values on the linked program without generating
+anything (Viewer._value_edit); the session reads the document again after that frame. Otherwise the shown element
+is generated again, and a shader whose text differs from the one drawn only in its uniforms' initial values is
+not relinked either: the new values are set on the linked program. Anything else is linked anew; a document with
 problems keeps the last good shader drawn and shows its problems (terminal and title).
+
+Our generator specializes each shader on the inputs at zero (OurGenerator.specialize: the reduced interface
+keeping every other input a uniform; a zero-weight lobe is left out of the code), so it compiles and draws
+faster; an input moved off zero (by an edit or the panel) is kept a uniform from then on.
 """
 import os
 import sys
