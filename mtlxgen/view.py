@@ -241,6 +241,7 @@ class Reload:
     environment: str = "fis"
     tree: object = None                 # the document's own XML (xmlreader, includes not spliced) as the session
                                         # read it: the base a value edit is compared with (None: not known)
+    data: bytes = None                  # the document's bytes it was parsed from
 
 
 class Reloader:
@@ -309,7 +310,7 @@ class Reloader:
             r.files = {os.path.abspath(self.path)}
             return r
         if before is not None and before == read_bytes(self.path):    # what the session read, for certain
-            r.tree = parse_tree(before, self.path)
+            r.tree, r.data = parse_tree(before, self.path), before
         r.files = g.files(r.session)
         r.elements = g.elements(r.session)
         name = element if element in r.elements else (r.elements[0] if r.elements else None)
@@ -560,6 +561,7 @@ class Viewer:
         self.shown_generation = 0           # the reload whose result the last frame drew
         self.last_reload = None             # (seconds from the file's change to the applied result, what happened)
         self.base = None                    # the document's XML as the drawn shaders were generated from it
+        self.base_data = None               # and its bytes
         self.behind = False                 # value edits set since the session was read (it still has the old ones)
         self._catch_up = False              # read the document again after the next frame (value edits set)
         self.frame_time = 0.0
@@ -674,7 +676,8 @@ class Viewer:
         for name, g in r.shaders.items():
             what.append(self._install(name, g))
         problems = r.problems + self.rig_problems
-        self.base = r.tree if r.session is not None and not problems and self.element in r.shaders else None
+        good = r.session is not None and not problems and self.element in r.shaders and r.tree is not None
+        self.base, self.base_data = (r.tree, r.data) if good else (None, None)
         if problems != self.problems:
             for line in problems:
                 self.say(line)
@@ -793,10 +796,16 @@ class Viewer:
                 self.changed()
             if path not in textures and path not in (self.lights_file, self.env_file):
                 regenerate = True
-        if regenerate and not (set(changed) == {self.path} and self._value_edit(first)):
+        if regenerate and set(changed) == {self.path}:
+            data = read_bytes(self.path)
+            if data is not None and data == self.base_data and not self.reloader.busy():
+                return                      # the same bytes as drawn (a save's trailing event, a touch)
+            if self._value_edit(first, data):
+                return
+        if regenerate:
             self.request_reload(first)
 
-    def _value_edit(self, changed_at):
+    def _value_edit(self, changed_at, data):
         """A document edit that changed only input values of public uniforms of the shown element's shader: the
         values set on the linked program, no generation (the session is read again after the next frame).
         False (nothing done) where in doubt: anything but <input> values changed, an input on a line with
@@ -808,13 +817,15 @@ class Viewer:
         if self.base is None or loaded is None or loaded.stale or not loaded.generated.sources \
                 or self.problems or self.reloader.busy() or not self.keep_program:
             return False
-        data = read_bytes(self.path)
         new = parse_tree(data, self.path)
         if new is None:
             return False
         edits = value_edits(self.base, new)
         if edits is None:
             return False
+        if not edits:                   # the same elements, attributes and lines (a comment, spaces): the same
+            self.base_data = data       # shaders, nothing to do
+            return True
         per_line = {}
         stack = [new]
         while stack:
@@ -839,7 +850,7 @@ class Viewer:
                         or not _same(loaded.values[uniform], before):
                     return False
                 changes[uniform] = after
-        self.base = new
+        self.base, self.base_data = new, data
         for k, v in changes.items():
             loaded.overrides.pop(k, None)
             loaded.values[k] = v

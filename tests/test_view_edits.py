@@ -167,6 +167,27 @@ TINT = """<?xml version="1.0"?>
 """
 
 
+def test_same_document_draws_on(tmp_path, window):
+    """The same bytes written again (a touch, a save's trailing event) or a comment changed on its line: nothing
+    generated, nothing set."""
+    path = tmp_path / "same.mtlx"
+    write(path, doc())
+    gen = Counting()
+    v = open_viewer(window, path, gen)
+    try:
+        settle(v)
+        calls, g, prepared = gen.calls, v.generation, v.loaded["M"].prepared
+        write(path, doc())
+        write(path, doc().replace("<materialx", "<!-- a note --><materialx"))
+        deadline = time.time() + 2.0
+        while time.time() < deadline:
+            v.frame()
+            time.sleep(0.01)
+        assert (gen.calls, v.generation) == (calls, g) and v.loaded["M"].prepared is prepared
+    finally:
+        v.close()
+
+
 @pytest.mark.parametrize("before, after", [
     # a nodedef's default (the node leaves it unauthored: a uniform; a default may be read as a constant too)
     (TINT.format(amount="0.5", colour="1, 0.5, 0.2"), TINT.format(amount="0.8", colour="1, 0.5, 0.2")),

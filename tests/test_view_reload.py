@@ -205,6 +205,17 @@ def test_panel_sets_a_value_and_saves_it(tmp_path, window):
         panel.draw(window.screen)
         drawn = np.frombuffer(window.screen.read(viewport=(0, 0, SIZE, SIZE), components=3), np.uint8).copy()
         assert (bare != drawn).mean() > 0.1
+        # an input the specialized shader folded (transmission, 0 by default): generated again with it a
+        # uniform holding the panel's value, and kept
+        item = {i.uniform: i for i in panel.inputs}["unlit_transmission"]
+        loaded = viewer.loaded["M_red"]
+        assert loaded.folded("unlit_transmission") and panel.value_of(item) == 0.0
+        panel.set_value(item, 0.5)
+        run_until(viewer, window, lambda: not viewer.loaded["M_red"].folded("unlit_transmission"))
+        loaded = viewer.loaded["M_red"]
+        assert loaded.prepared is not prepared and "unlit_transmission" in loaded.generated.manifest["kept"]
+        assert loaded.overrides["unlit_transmission"] == 0.5 and panel.value_of(item) == 0.5
+        assert loaded.prepared.prog["unlit_transmission"].value == 0.5
     finally:
         panel.release()
         viewer.close()
