@@ -274,6 +274,29 @@ def test_negative_schlick_colours_reflect_nothing_like_materialx(renderer, cms_r
     assert_parity_with_materialx(renderer, cms_reference, write_doc(tmp_path, body), "m")
 
 
+@pytest.mark.parametrize("scatter_mode", ["R", "RT"])
+def test_negative_dielectric_tint_reflects_nothing_like_materialx(renderer, cms_reference, tmp_path, scatter_mode):
+    """The same for dielectric_bsdf's tint (found by setting each input of standard_surface out of its range:
+    specular_color (-0.5, 0.3, 1.5) drew negative red light in the highlight, -0.29 where MaterialX draws the
+    diffuse base alone, 0.17; mean 2.8/255, 7% of pixels off)."""
+    from util import bsdf_material
+    alpha = 0.2 if scatter_mode == "R" else 0.05    # rougher transmission: a difference of its own (rough_transmission)
+    body = bsdf_material('<dielectric_bsdf name="b" type="BSDF"><input name="tint" type="color3" '
+                         'value="-0.5, 0.3, 1.5" /><input name="roughness" type="vector2" value="%g, %g" />'
+                         '<input name="scatter_mode" type="string" value="%s" /></dielectric_bsdf>'
+                         % (alpha, alpha, scatter_mode))
+    assert_parity_with_materialx(renderer, cms_reference, write_doc(tmp_path, body), "m")
+    img = renderer.render(generate_one(write_doc(tmp_path, body), "m"))
+    assert img[..., :3].min() >= 0.0                      # no negative light
+
+
+def test_standard_surface_negative_specular_colour_matches_materialx(renderer, cms_reference, tmp_path):
+    body = ('<standard_surface name="s" type="surfaceshader"><input name="specular_color" type="color3" '
+            'value="-0.5, 0.3, 1.5" /></standard_surface><surfacematerial name="m" type="material">'
+            '<input name="surfaceshader" type="surfaceshader" nodename="s" /></surfacematerial>')
+    assert_parity_with_materialx(renderer, cms_reference, write_doc(tmp_path, body), "m")
+
+
 def test_gltf_base_colour_from_position_matches_materialx(renderer, cms_reference, tmp_path):
     body = ('<position name="p" type="vector3"><input name="space" type="string" value="world" /></position>'
             '<convert name="c" type="color3"><input name="in" type="vector3" nodename="p" /></convert>'

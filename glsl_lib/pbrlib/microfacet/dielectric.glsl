@@ -1,6 +1,7 @@
 // requires: constants.glsl closures.glsl pbrlib/microfacet/scatter_mode.glsl pbrlib/microfacet/microfacet_reflection.glsl lighting/environment_specular.glsl lighting/environment_refraction.glsl
 // dielectric_bsdf (MaterialX Specification 1.39, pbrlib): GGX reflection with the dielectric Fresnel
-// curve, tinted; transmission by refraction; what it does not reflect passes below (albedo scaling: the
+// curve, tinted (a tint below 0 held at 0, as MaterialX's GLSL holds it: no negative light); transmission by
+// refraction; what it does not reflect passes below (albedo scaling: the
 // compensated lobe's albedo E c, so that a layer over a white base stays at 1 in the white furnace).
 
 // Multiple-scattering compensation (Turquin 2019's scaling form) for a dielectric lobe: from F0 of |IOR| (the
@@ -32,7 +33,7 @@ BSDF mg_dielectric_reflection(vec3 L, vec3 V, float weight, vec3 tint, float ior
     vec3 comp = mg_dielectric_compensation(NdotV, alpha, fr, film_thickness, film_ior);
     vec3 f = mg_microfacet_reflection(L, V, frame, alpha, fr, retro) * comp;
     vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * comp;
-    return BSDF(f * tint * weight, 1.0 - weight * E);
+    return BSDF(f * max(tint, 0.0) * weight, 1.0 - weight * E);
 }
 
 BSDF mg_dielectric_indirect(vec3 V, float weight, vec3 tint, float ior, vec2 roughness, bool retro,
@@ -47,7 +48,7 @@ BSDF mg_dielectric_indirect(vec3 V, float weight, vec3 tint, float ior, vec2 rou
     vec3 comp = mg_dielectric_compensation(NdotV, alpha, fr, film_thickness, film_ior);
     vec3 Li = mg_env_specular(V, frame, alpha, fr, retro) * comp;
     vec3 E = mg_ggx_albedo(NdotV, alpha, fr) * comp;
-    return BSDF(Li * tint * weight, 1.0 - weight * E);
+    return BSDF(Li * max(tint, 0.0) * weight, 1.0 - weight * E);
 }
 
 BSDF mg_dielectric_transmission(vec3 V, float weight, vec3 tint, float ior, vec2 roughness,
@@ -65,5 +66,5 @@ BSDF mg_dielectric_transmission(vec3 V, float weight, vec3 tint, float ior, vec2
     vec3 through = max(1.0 - mg_fresnel_eval(fr, NdotV) * dot(mg_ggx_albedo_split(NdotV, alpha), vec2(1.0))
                              * mg_ggx_energy_compensation(NdotV, alpha, fr.F0), 0.0);
     return BSDF(mg_env_refraction(V, N, T, ior, alpha, fr, mg_ggx_energy_compensation(NdotV, alpha, mg_fresnel_eval(fr, NdotV)),
-                                  through, thin_walled) * tint * weight, vec3(1.0 - weight));
+                                  through, thin_walled) * max(tint, 0.0) * weight, vec3(1.0 - weight));
 }
