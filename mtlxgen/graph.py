@@ -438,14 +438,6 @@ class GraphBuilder:
             self.warn(node.loc, "node '%s' has type %s but its nodedef %s outputs %s: read as %s, as MaterialX reads it"
                       % (node.name, node.type, nd.name, nd.type, nd.type))
 
-    def _unbuilt_dependency(self, port, scope):
-        """The node of `scope` that `port` reads when it is not built yet (source_of_port's rules:
-        an interfacename binding wins over a nodename), else None."""
-        if port.interfacename or not port.nodename or (port.error and not port.connected):
-            return None
-        dep = scope.nodes.get(port.nodename)
-        return dep if dep is not None and (scope.key, dep.name) not in self.memo else None
-
     def _instantiate(self, node, scope):
         """Generator: yields (port, node) for each same-scope node to build first; returns the outputs."""
         nd = self.nodedef_for(node)

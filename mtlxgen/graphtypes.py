@@ -95,7 +95,10 @@ def glsl_identifier(name):
 
 
 def _glsl_identifier(name):
-    s = _UNDERSCORES.sub("_", _NOT_IDENTIFIER.sub("_", name))
+    if name.isascii() and name.isidentifier() and "__" not in name:
+        s = name                    # [A-Za-z_][A-Za-z0-9_]* without a double underscore: nothing to replace
+    else:
+        s = _UNDERSCORES.sub("_", _NOT_IDENTIFIER.sub("_", name))
     if not s or s[0].isdigit():
         s = "n" + s
     if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):
