@@ -288,3 +288,34 @@ def test_unfold_keeps_the_input_with_the_panels_value(tmp_path, window):
         v.close()
     want, _ = fresh(window, tmp_path, doc(coat="0.6"), generator=OurGenerator(specialize=False))
     assert np.abs(img - want).max() <= 1e-3
+
+
+def test_other_element_after_a_value_edit_has_the_new_value(tmp_path, window):
+    """Shown next, before the session read the edited document again: it is read first (the element is drawn
+    with the edited value, not the session's old one)."""
+    two = doc().replace('</materialx>', '''  <surfacematerial name="M2" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+</materialx>''')
+    path = tmp_path / "two.mtlx"
+    write(path, two)
+    v = open_viewer(window, path)
+    try:
+        settle(v)
+        v.cycle_element()
+        settle(v, lambda: "M2" in v.loaded)
+        v.cycle_element()
+        settle(v)
+        g = v.generation
+        write(path, two.replace('value="0.8, 0.2, 0.1"', 'value="0.1, 0.2, 0.8"'))
+        deadline = time.time() + 30
+        while v.generation == g and time.time() < deadline:
+            v.poll()
+            time.sleep(0.005)
+        assert v.behind and v.last_reload[1].endswith("not generated") and v.loaded["M2"].stale
+        v.cycle_element()
+        settle(v)
+        assert v.element == "M2" and not v.behind
+        assert v.loaded["M2"].values["SR_base_color"] == (0.1, 0.2, 0.8)
+    finally:
+        v.close()
