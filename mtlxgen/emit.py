@@ -13,7 +13,6 @@ template, closureplan.py says when each closure node is needed. Handlers (nodes/
 return code: nothing they do changes the graph (the emitter's uniform table is its own).
 """
 import copy
-import hashlib
 import json
 import os
 import re
@@ -77,6 +76,7 @@ def file_stem(element):
 
 
 def _hashed(stem, element, salt=""):
+    import hashlib         # here: loading OpenSSL is 6 ms of a start, and few stems need it
     digest = hashlib.sha256((element + salt).encode("utf-8", "surrogatepass")).hexdigest()[:10]
     return "%s-%s" % (stem[:STEM_BYTES - len(digest) - 1], digest)
 

@@ -4,7 +4,6 @@ Plain dataclasses (Source, GNode, Uniform, Graph) and the GLSL identifier rules 
 uniforms their names (glsl_identifier, unique_identifier). A leaf: it knows no document reader, no node
 table and no target, so both sides of the pipeline can share it without importing each other.
 """
-import hashlib
 import re
 from dataclasses import dataclass, field
 
@@ -104,6 +103,7 @@ def _glsl_identifier(name):
     if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):
         s = "n_" + s
     if len(s) > IDENTIFIER_CHARS:
+        import hashlib         # here: loading OpenSSL is 6 ms of a start, and few names need it
         digest = hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
         s = s[:IDENTIFIER_CHARS - 10].rstrip("_") + "_h" + digest
     return s

@@ -1,11 +1,13 @@
 """The compact library cache: a parsed Library written once, read back in a few milliseconds.
 
-File: MAGIC, a SHA-256 digest of the body, the body: marshal data (builtin types only: no code runs reading
-it, unlike a pickle). The body holds each nodedef and nodegraph as its own marshal blob; a loaded Library's
-tables (LazyTable) decode an entry when it is first used, so a document that uses 60 of the 826 nodedefs
-decodes about 60. An entry decoded once is the same object in every table and every overlay that reaches it.
+File: MAGIC, a checksum of the body (digest(): CRC-32, Adler-32 and length, zlib's, which every start has loaded
+already; hashlib would load OpenSSL, 6 ms of a cold start), the body: marshal data (builtin types only: no code
+runs reading it, unlike a pickle). The checksum finds a truncated or corrupted file; it authenticates nothing, nor
+need it: a file is read only where it is a regular file of the user's own, in the user's own cache folder. The
+body holds each nodedef and nodegraph as its own marshal blob; a loaded Library's tables (LazyTable) decode an
+entry when it is first used, so a document that uses 60 of the 826 nodedefs decodes about 60. An entry decoded once is the same object in every table and every overlay that reaches it.
 
-Name: library-KEY.mxlib, KEY hashing the format, the fields of the document classes, the size and mtime of
+Name: library-KEY.mxlib, KEY (digest()) of the format, the fields of the document classes, the size and mtime of
 the modules that read libraries, and the path, size and mtime of every library file (the wheel's, ours,
 MATERIALX_SEARCH_PATH's, --library's): any change is another key, so a stale file is never read. A file
 that is not ours (another owner), not a regular file, or whose digest does not match its body is ignored and
@@ -13,19 +15,19 @@ rewritten. Folder: MTLXGEN_CACHE, else $XDG_CACHE_HOME/mtlxgen, else ~/.cache/mt
 libraries: site-packages may be read-only or shared); where it cannot be written the library is parsed and
 nothing is written. At most KEEP files are kept (the newest).
 """
-import hashlib
 import marshal
 import os
 import stat
+import zlib
 from collections.abc import MutableMapping
 from dataclasses import fields
 
 from . import diagnostics, document, mxtypes
 
-FORMAT = 1
+FORMAT = 2                  # 2: the zlib checksum (1: SHA-256)
 MAGIC = b"MTLXGEN-LIB\0"
 KEEP = 12                   # cache files kept in the folder (one per library set and code version)
-_DIGEST = 32
+_DIGEST = 16
 
 # modules whose code decides what a parsed library holds: editing one makes another key
 _READERS = ("document.py", "xmlreader.py", "mxtypes.py", "upgrade.py", "library.py", "library_cache.py",
@@ -41,18 +43,23 @@ def cache_dir():
     return os.path.join(root, "mtlxgen")
 
 
+def digest(data):
+    """16 bytes: CRC-32, Adler-32 and the length of `data` (a check against accidents, not an authentication)."""
+    return zlib.crc32(data).to_bytes(4, "big") + zlib.adler32(data).to_bytes(4, "big") + len(data).to_bytes(8, "big")
+
+
 def cache_key(files):
-    h = hashlib.sha256(b"format %d\n" % FORMAT)
+    parts = [b"format %d\n" % FORMAT]
     for cls in _CLASSES:
-        h.update(("%s(%s)\n" % (cls.__name__, ",".join(f.name for f in fields(cls)))).encode())
+        parts.append(("%s(%s)\n" % (cls.__name__, ",".join(f.name for f in fields(cls)))).encode())
     here = os.path.dirname(os.path.abspath(__file__))
     for name in _READERS:
         st = os.stat(os.path.join(here, name))
-        h.update(("%s|%d|%d\n" % (name, st.st_size, st.st_mtime_ns)).encode())
+        parts.append(("%s|%d|%d\n" % (name, st.st_size, st.st_mtime_ns)).encode())
     for f in files:
         st = os.stat(f)
-        h.update(("%s|%d|%d\n" % (f, st.st_size, st.st_mtime_ns)).encode("utf-8", "surrogateescape"))
-    return h.hexdigest()[:32]
+        parts.append(("%s|%d|%d\n" % (f, st.st_size, st.st_mtime_ns)).encode("utf-8", "surrogateescape"))
+    return digest(b"".join(parts)).hex()
 
 
 def cache_path(files):
@@ -100,7 +107,7 @@ def _read(path):
     if len(data) < head or not data.startswith(MAGIC):
         return None
     body = data[head:]
-    if hashlib.sha256(body).digest() != data[len(MAGIC):head]:
+    if digest(body) != data[len(MAGIC):head]:
         return None
     return body
 
@@ -118,7 +125,7 @@ def _write(path, lib):
         os.makedirs(folder, mode=0o700, exist_ok=True)
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NOFOLLOW", 0), 0o600)
         with os.fdopen(fd, "wb") as f:
-            f.write(MAGIC + hashlib.sha256(body).digest() + body)
+            f.write(MAGIC + digest(body) + body)
         os.replace(tmp, path)
     except OSError:
         try:

@@ -33,7 +33,6 @@ and accepts the seed's `result` output name for the `out` of USD nodes (UsdPrimv
   with the dielectric F0 from ior and F90 = 1), no conductor; opacity is alpha, not refraction;
   opacityThreshold > 0 cuts out (alpha 0 below the threshold, 1 at or above it).
 """
-import hashlib
 import re
 
 from ..files import regular_file_problem
@@ -242,6 +241,7 @@ def primvar_attribute(varname):
     if _ATTRIBUTE_PART.fullmatch(varname) and len(varname) <= MAX_ATTRIBUTE_PART:
         return "i_geomprop_" + varname
     kept = "_".join(re.findall(r"[A-Za-z0-9]+", varname, re.ASCII))[:24] or "primvar"
+    import hashlib         # here: loading OpenSSL is 6 ms of a start, and few names need it
     digest = hashlib.sha256(varname.encode("utf-8", "surrogateescape")).hexdigest()[:10]
     return "i_geomprop_%s_%s" % (kept, digest)
 
