@@ -159,6 +159,13 @@ ENVIRONMENT_METHODS = ("fis", "prefiltered")
 _ENVIRONMENT_DEFINES = {"fis": [], "prefiltered": ["MG_ENV_PREFILTERED", "MG_REFRACTION_PREFILTERED"]}
 
 
+def _at_most_zero(value):
+    try:
+        return float(value) <= 0.0
+    except (TypeError, ValueError):
+        return False
+
+
 class Emitter:
     stage = "fragment"                # the stage its code goes to (VertexEmitter: "vertex")
 
@@ -517,6 +524,26 @@ class Emitter:
                 return d
         return None
 
+    def library_code(self, files, roots):
+        """The sections ("// ---- glsl_lib/REL", code) of the glsl_lib files `files` that the texts `roots` reach, the
+        paste switches resolved for this shader (glsldeps.SWITCHES), compacted in a reduced shader."""
+        switches = self.paste_switches()
+        texts = [(r, glsldeps.resolve_switches(read_lib_file(r)[0], switches)) for r in files]
+        out = []
+        for rel, text in glsldeps.used_code(texts, roots):
+            out.append("// ---- glsl_lib/%s" % rel)
+            out.append((glsldeps.compact(text, rel) if self.compact else text.rstrip()) + "\n")
+        return out
+
+    def paste_switches(self):
+        """The glsldeps.SWITCHES this shader sets: MG_NO_THIN_FILM where every closure node's thinfilm_thickness is a
+        literal <= 0 and no document GLSL is pasted (it could reach the film code)."""
+        for node in self.closure_nodes.values():
+            film = node.inputs.get("thinfilm_thickness")
+            if film is not None and not (film.node is None and film.uniform is None and _at_most_zero(film.value)):
+                return set()
+        return set() if self.external else {"MG_NO_THIN_FILM"}
+
     def reachable(self, src, skip=None):
         """Ids of the nodes `src` depends on, not following the (node id, input) edge `skip`."""
         by_id = {n.id: n for n in self.graph.nodes}
@@ -569,9 +596,7 @@ class Emitter:
         roots = frag + self.body + [out_expr]
         joined = "\n".join(roots)          # one text to scan, not one per line (a `/*` may span lines: then each)
         roots = ([joined] if "/*" not in joined else roots) + [text for _, text in self.external]
-        for rel, text in glsldeps.used_code([(r, read_lib_file(r)[0]) for r in self.files], roots):
-            frag.append("// ---- glsl_lib/%s" % rel)
-            frag.append((glsldeps.compact(text, rel) if self.compact else text.rstrip()) + "\n")
+        frag += self.library_code(self.files, roots)
         for path, text in self.external:
             frag.append("// ---- %s" % comment_text(os.path.basename(path)))
             frag.append(text.rstrip() + "\n")
@@ -677,9 +702,7 @@ class VertexStage:
             body += ["    displacementshader mg_displacement = %s;" % displacer.result,
                      "    world_position = u_worldMatrix * vec4(i_position + mg_displacement.offset * "
                      "mg_displacement.scale, 1.0);"]
-            for rel, text in glsldeps.used_code([(r, read_lib_file(r)[0]) for r in files], lines + body):
-                lines.append("// ---- glsl_lib/%s" % rel)
-                lines.append((glsldeps.compact(text, rel) if em.compact else text.rstrip()) + "\n")
+            lines += em.library_code(files, lines + body)
         lines += ["", "void main()", "{"] + body
         lines += ["    gl_Position = u_viewProjectionMatrix * world_position;"]
         lines += ["    v_%s = %s;" % (s.name, s.vertex) for s in em.streams.values()]

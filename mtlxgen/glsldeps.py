@@ -18,7 +18,8 @@ import bisect
 import os
 import re
 
-__all__ = ["GlslSplitError", "Item", "LibFile", "split", "split_file", "identifiers", "used_code"]
+__all__ = ["GlslSplitError", "Item", "LibFile", "SWITCHES", "resolve_switches", "split", "split_file", "identifiers",
+           "used_code"]
 
 
 class GlslSplitError(ValueError):
@@ -410,6 +411,45 @@ def split(text, rel="<glsl>"):
     else:
         header_end = len(text)
     return LibFile(rel, text, text[:header_end], items)
+
+
+# Paste switches: a glsl_lib file may test these names with `#ifdef NAME` / `#ifndef NAME` ... [`#else` ...] `#endif`,
+# inside a function too. The emitter resolves them when it pastes the file (resolve_switches, before the split), so
+# a shader holds the branch its switch set selects, without the directive lines, and nothing that only the dropped
+# branch reaches. Library code pasted by hand (emit.lib_source) keeps the directives, the names undefined.
+#   MG_NO_THIN_FILM  no closure of the shader has a thin film (every thinfilm_thickness a literal <= 0)
+SWITCHES = ("MG_NO_THIN_FILM",)
+_DIRECTIVE = re.compile(r"\s*#\s*(ifdef|ifndef|if|else|elif|endif)\b\s*(\w*)")
+
+
+def resolve_switches(text, defined=()):
+    """text with its #ifdef/#ifndef groups on SWITCHES resolved for the names in `defined` (a group on another name
+    passes through whole, with the switch groups inside it resolved)."""
+    if not any(name in text for name in SWITCHES):
+        return text
+    out = []
+    stack = []      # per open group: None (not a switch: passed through) or [keeping, this branch kept]
+    for line in text.split("\n"):
+        m = _DIRECTIVE.match(line)
+        keeping = all(g is None or g[1] for g in stack)
+        if m:
+            kind, name = m.groups()
+            if kind in _CONDITIONALS:
+                if kind != "if" and name in SWITCHES:
+                    stack.append([keeping, (name in defined) == (kind == "ifdef")])
+                    continue
+                stack.append(None)
+            elif kind in ("else", "elif") and stack and stack[-1] is not None:
+                if kind == "elif":
+                    raise GlslSplitError("#elif in a paste-switch group (%s): not supported" % ", ".join(SWITCHES))
+                stack[-1][1] = not stack[-1][1]
+                continue
+            elif kind == "endif" and stack:
+                if stack.pop() is not None:
+                    continue
+        if keeping:
+            out.append(line)
+    return "\n".join(out)
 
 
 _CACHE = {}

@@ -297,4 +297,80 @@ def test_environment_sample_loops_test_the_film_before_the_loop(rel, loop):
     assert len(caller) == 1 and loop + "_bare" in caller[0].uses
     text = re.sub(r"\s+", " ", lf.item_text(caller[0]))
     assert re.search(r"if \(fr\.film_thickness > 0\.0\) sum = %s_film\(" % loop, text)
-    assert re.search(r"else sum = %s_bare\(" % loop, text)
+    assert re.search(r"else (#endif )?sum = %s_bare\(" % loop, text)
+    # the film's test and call are a paste switch's group: gone where no film can be
+    resolved = glsldeps.compact(glsldeps.resolve_switches(lf.item_text(caller[0]), {"MG_NO_THIN_FILM"}))
+    assert loop + "_film" not in resolved and "MG_NO_THIN_FILM" not in resolved
+    assert re.search(r"sum = %s_bare\(" % loop, resolved)
+
+
+# ---------------------------------------------------------------- paste switches
+
+SWITCH_TEXT = """a
+#ifndef MG_NO_THIN_FILM
+    film();
+#ifdef OTHER
+    other();
+#endif
+#else
+    bare();
+#endif
+#ifdef MG_ENV_PREFILTERED
+    p();
+#endif
+b"""
+
+
+def test_paste_switch_groups_resolve_both_ways_and_other_groups_pass_through():
+    on = glsldeps.resolve_switches(SWITCH_TEXT, {"MG_NO_THIN_FILM"})
+    off = glsldeps.resolve_switches(SWITCH_TEXT, set())
+    assert on.split() == ["a", "bare();", "#ifdef", "MG_ENV_PREFILTERED", "p();", "#endif", "b"]
+    assert off.split() == ["a", "film();", "#ifdef", "OTHER", "other();", "#endif",
+                           "#ifdef", "MG_ENV_PREFILTERED", "p();", "#endif", "b"]
+    assert glsldeps.resolve_switches("x\n#ifdef MG_ENV_PREFILTERED\ny\n#endif", {"MG_NO_THIN_FILM"}) == \
+        "x\n#ifdef MG_ENV_PREFILTERED\ny\n#endif"
+
+
+FILM_DOC = """<?xml version="1.0"?>
+<materialx version="1.39">
+  <dielectric_bsdf name="lobe" type="BSDF">
+    <input name="roughness" type="vector2" value="0.3, 0.3" />
+    <input name="thinfilm_thickness" type="float" value="%s" />
+    <input name="thinfilm_ior" type="float" value="1.4" />
+  </dielectric_bsdf>
+  <oren_nayar_diffuse_bsdf name="base" type="BSDF">
+    <input name="color" type="color3" value="0.5, 0.3, 0.2" />
+  </oren_nayar_diffuse_bsdf>
+  <layer name="stack" type="BSDF">
+    <input name="top" type="BSDF" nodename="lobe" />
+    <input name="base" type="BSDF" nodename="base" />
+  </layer>
+  <surface name="surf" type="surfaceshader">
+    <input name="bsdf" type="BSDF" nodename="stack" />
+  </surface>
+  <surfacematerial name="mat" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="surf" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+@pytest.mark.parametrize("thickness, interface, film_code", [
+    ("0", "reduced", False),        # a literal 0: the shader holds no film code
+    ("0", "complete", True),        # a uniform (editable): the film stays possible
+    ("450", "reduced", True),       # a literal film
+])
+def test_a_shader_holds_film_code_only_where_a_film_can_be(tmp_path, renderer, monkeypatch, thickness, interface,
+                                                           film_code):
+    path = tmp_path / "film.mtlx"
+    path.write_text(FILM_DOC % thickness)
+    s = pipeline.generate(str(path), ["mat"], interface=interface, max_lights=1)[0]
+    code = glsldeps.compact(s.fragment)        # (comments may name the switch)
+    assert ("mg_thin_film" in code) == film_code and "MG_NO_THIN_FILM" not in code
+    # the same pixels as the shader pasted with the film code (the switch never set)
+    monkeypatch.setattr(emit.Emitter, "paste_switches", lambda self: set())
+    whole = pipeline.generate(str(path), ["mat"], interface=interface, max_lights=1)[0]
+    assert "mg_thin_film" in whole.fragment
+    assert (len(s.fragment) < len(whole.fragment)) == (not film_code)
+    a, b = renderer.render(s), renderer.render(whole)
+    assert np.array_equal(a, b, equal_nan=True), float(np.nanmax(np.abs(a - b)))

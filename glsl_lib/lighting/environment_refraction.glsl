@@ -92,9 +92,11 @@ vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 sum, share, reflected;
+#ifndef MG_NO_THIN_FILM
     if (fr.film_thickness > 0.0)
         sum = mg_env_refraction_samples_film(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);
     else
+#endif
         sum = mg_env_refraction_samples_bare(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);
 #ifdef MG_REFRACTION_UNBOUNDED
     return sum / (float(n) * G1V);

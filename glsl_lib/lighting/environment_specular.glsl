@@ -90,9 +90,11 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 sum;
+#ifndef MG_NO_THIN_FILM
     if (fr.film_thickness > 0.0)
         sum = mg_env_specular_samples_film(Vt, frame, alpha, fr, retro, n, G1V);
     else
+#endif
         sum = mg_env_specular_samples_bare(Vt, frame, alpha, fr, retro, n, G1V);
     return sum / float(n);
 #endif

@@ -29,14 +29,17 @@ vec2 mg_hammersley(int i, int n)
 // with n K samples. With one frame (the defaults) the points are the Hammersley set, as before.
 
 // Sobol's second dimension: bit j of t contributes the j-th row of Pascal's triangle mod 2, read from the top bit.
+// By Lucas' theorem C(j, k) is odd exactly when the bits of k are among those of j, so bit k of the reversed result
+// is the XOR of the bits j of t that contain k: five shift-XOR steps, one per bit of k, then one reversal (no
+// loop: the point stays straight-line code wherever a sample loop inlines it).
 uint mg_sobol2(uint t)
 {
-    uint v = 0x80000000u;
-    uint r = 0u;
-    for (; t != 0u; t >>= 1u, v ^= v >> 1u)
-        if ((t & 1u) != 0u)
-            r ^= v;
-    return r;
+    t ^= (t >> 1u) & 0x55555555u;
+    t ^= (t >> 2u) & 0x33333333u;
+    t ^= (t >> 4u) & 0x0f0f0f0fu;
+    t ^= (t >> 8u) & 0x00ff00ffu;
+    t ^= (t >> 16u) & 0x0000ffffu;
+    return mg_reverse_bits(t);
 }
 
 vec2 mg_env_sample_point(int i, int n)

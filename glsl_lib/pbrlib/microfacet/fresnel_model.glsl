@@ -58,10 +58,14 @@ vec3 mg_fresnel_film(MgFresnel f, float cosTheta)
 // Reflectance at cosTheta, through the thin film where there is one. A loop over samples tests the film once,
 // before it, and calls mg_fresnel_film or mg_fresnel_base in its body (the film thickness is a uniform: a test
 // in the body is paid per sample where the branches of a pixel block are run under a mask, as on llvmpipe;
-// the model needs no such care, being a constant each BSDF's call folds).
+// the model needs no such care, being a constant each BSDF's call folds). MG_NO_THIN_FILM: a switch the generator
+// resolves when it pastes this code (mtlxgen/glsldeps.py, SWITCHES) for a shader whose film thicknesses are all
+// literal zeros, which then holds no film code at all.
 vec3 mg_fresnel_eval(MgFresnel f, float cosTheta)
 {
-    if (f.film_thickness <= 0.0)
-        return mg_fresnel_base(f, cosTheta);
-    return mg_fresnel_film(f, cosTheta);
+#ifndef MG_NO_THIN_FILM
+    if (f.film_thickness > 0.0)
+        return mg_fresnel_film(f, cosTheta);
+#endif
+    return mg_fresnel_base(f, cosTheta);
 }
