@@ -103,10 +103,22 @@ def _glsl_identifier(name):
     if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):
         s = "n_" + s
     if len(s) > IDENTIFIER_CHARS:
-        import hashlib         # here: loading OpenSSL is 6 ms of a start, and few names need it
-        digest = hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+        digest = _sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
         s = s[:IDENTIFIER_CHARS - 10].rstrip("_") + "_h" + digest
     return s
+
+
+def _sha256(data):
+    """hashlib.sha256(data), from CPython's own SHA-256 module where it has one: hashlib loads OpenSSL (2 ms of
+    the start of a generate that cuts a long name)."""
+    try:
+        from _sha256 import sha256          # CPython 3.11
+    except ImportError:
+        try:
+            from _sha2 import sha256        # CPython 3.12 and later
+        except ImportError:
+            from hashlib import sha256
+    return sha256(data)
 
 
 def unique_identifier(stem, taken):
