@@ -266,8 +266,9 @@ class Reloader:
             self._wake.notify()
 
     def busy(self):
+        """A request waiting, being generated, or its result not yet taken (results())."""
         with self._lock:
-            return self._busy or self._request is not None
+            return self._busy or self._request is not None or bool(self._done)
 
     def results(self):
         with self._lock:
