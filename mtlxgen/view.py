@@ -502,18 +502,24 @@ class Loaded:
     overrides: dict = field(default_factory=dict)    # uniform -> value set by the property panel
     values: dict = field(default_factory=dict)       # uniform -> the document's value on the program (manifest's,
                                                      # then those value edits set)
+    edited: set = field(default_factory=set)         # uniforms value edits set since the text was generated
 
     def folded(self, uniform):
         """A public input the specialized shader has as a constant (editing it regenerates)."""
         return uniform in self.generated.manifest.get("folded", ())
 
 
-def manifest_values(manifest):
-    """{uniform: value} of a manifest's uniforms (vectors as tuples of floats)."""
+def manifest_values(g):
+    """{uniform: value} of a Generated's manifest uniforms (vectors as tuples of floats) whose initial value in
+    the text is that value: the document's value as it is, nothing made of it on the way (a value edit sets
+    these only)."""
+    text = initial_values(g.fragment)
     out = {}
-    for u in manifest.get("uniforms", ()):
+    for u in g.manifest.get("uniforms", ()):
         v = u.get("value")
-        out[u["name"]] = tuple(v) if isinstance(v, list) else v
+        v = tuple(v) if isinstance(v, list) else v
+        if u.get("name") in text and _same(v, text[u["name"]]):
+            out[u["name"]] = v
     return out
 
 
@@ -704,7 +710,7 @@ class Viewer:
                 and self._same_bindings(old.generated, g) \
                 and skeleton(old.generated.fragment) == skeleton(g.fragment):
             before, after = initializers(old.generated.fragment), initializers(g.fragment)
-            names = {k for k, v in after.items() if before.get(k) != v}
+            names = {k for k, v in after.items() if before.get(k) != v or k in old.edited}   # the program's
             changed = initial_values(g.fragment, names)
             if len(changed) != len(names):          # a value a program cannot be given (a struct): link anew
                 changed = None
@@ -714,7 +720,7 @@ class Viewer:
                 set_uniform(old.prepared.prog, k, v)
             old.generated, old.stale = g, False
             old.prepared.manifest = g.manifest
-            old.values = manifest_values(g.manifest)
+            old.values, old.edited = manifest_values(g), set()
             return "%s: %d value%s set" % (name, len(changed), "" if len(changed) == 1 else "s") if changed else ""
         try:
             prepared = self.renderer.prepare(g.vertex, g.fragment, g.manifest)
@@ -733,7 +739,7 @@ class Viewer:
             old.prepared.release()
         for k, v in overrides.items():
             set_uniform(prepared.prog, k, v)
-        self.loaded[name] = Loaded(g, prepared, overrides=overrides, values=manifest_values(g.manifest))
+        self.loaded[name] = Loaded(g, prepared, overrides=overrides, values=manifest_values(g))
         return "%s: linked" % name
 
     def unfold(self, uniform, value):
@@ -855,6 +861,7 @@ class Viewer:
         for k, v in changes.items():
             loaded.overrides.pop(k, None)
             loaded.values[k] = v
+            loaded.edited.add(k)
             set_uniform(loaded.prepared.prog, k, v)
         for name, other in self.loaded.items():      # other elements may read the same inputs: regenerated
             if name != self.element:

@@ -319,3 +319,30 @@ def test_other_element_after_a_value_edit_has_the_new_value(tmp_path, window):
         assert v.loaded["M2"].values["SR_base_color"] == (0.1, 0.2, 0.8)
     finally:
         v.close()
+
+
+def test_value_edit_then_a_reload_of_the_old_values_draws_them(tmp_path, window):
+    """A value set, then the document read again with its old value before the session caught up (the text
+    the program was linked from has that old value): the program is given it back."""
+    path = tmp_path / "back.mtlx"
+    write(path, doc())
+    v = open_viewer(window, path)
+    try:
+        settle(v)
+        prepared, g = v.loaded["M"].prepared, v.generation
+        write(path, doc(base_color='value="0.1, 0.6, 0.3"'))
+        deadline = time.time() + 30
+        while v.generation == g and time.time() < deadline:
+            v.poll()
+            time.sleep(0.005)
+        assert tuple(prepared.prog["SR_base_color"].value) == pytest.approx((0.1, 0.6, 0.3))
+        write(path, doc())
+        v._reload_now()
+        assert v.loaded["M"].prepared is prepared
+        assert tuple(prepared.prog["SR_base_color"].value) == pytest.approx((0.8, 0.2, 0.1))
+        settle(v)
+        img = v.image().copy()
+    finally:
+        v.close()
+    want, _ = fresh(window, tmp_path, doc())
+    assert np.abs(img - want).max() <= 1e-6
