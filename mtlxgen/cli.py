@@ -484,17 +484,23 @@ def build_parser(command=None):
     ap = _Parser(prog="mtlxgen", description="MaterialX documents to GLSL shaders")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
-    def shader_interface(p):
+    def shader_interface(p, default="complete"):
         p.add_argument("--interface", choices=("complete", "reduced"), default=None,
-                       help="complete = every public input a uniform named as MaterialX names it (default); reduced "
-                            "= unconnected inputs become constants and what they make constant is computed at "
-                            "generation time (inputs marked uniform=\"true\" and those named by --keep stay uniforms)")
+                       help="complete = every public input a uniform named as MaterialX names it; reduced = "
+                            "unconnected inputs become constants and what they make constant is computed at "
+                            "generation time (inputs marked uniform=\"true\" and those named by --keep stay uniforms) "
+                            "(default: %s)" % default)
         p.add_argument("--keep", action="append", default=[], metavar="NAME",
                        help="reduced interface: keep this input a uniform (repeatable): its uniform name as the "
                             "complete manifest lists it, or NODE/INPUT; a name that names nothing is an error")
         p.add_argument("--keep-file", metavar="FILE", type=_readable_file,
                        help="reduced interface: names to keep uniforms, one a line or a JSON list (or a manifest "
                             "of ours: its kept inputs, else its uniforms)")
+
+    def output_dir_and_element(p):
+        p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
+        p.add_argument("--element", metavar="NAME", type=_name,
+                       help="only this element (name path; for a USD stage, a material's prim path or name)")
 
     def generation(p):
         """Options of how shaders are generated (_session_options), for every command that generates."""
@@ -534,9 +540,7 @@ def build_parser(command=None):
         p = sub.add_parser("generate", help="write NAME.vert, NAME.frag, NAME.json per renderable element")
         common(p)
         generation(p)
-        p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
-        p.add_argument("--element", metavar="NAME", type=_name,
-                       help="only this element (name path; for a USD stage, a material's prim path or name)")
+        output_dir_and_element(p)
         p.add_argument("-v", "--verbose", action="store_true", help="print the paths written")
         p.set_defaults(func=cmd_generate)
 
@@ -544,9 +548,7 @@ def build_parser(command=None):
         p = sub.add_parser("render", help="render each element on a sphere to NAME.png (sRGB) and NAME.exr (linear)")
         common(p)
         generation(p)
-        p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
-        p.add_argument("--element", metavar="NAME", type=_name,
-                       help="only this element (name path; for a USD stage, a material's prim path or name)")
+        output_dir_and_element(p)
         p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=256, metavar="N",
                        help="image width and height in pixels, 1 to %d (default: 256)" % MAX_SIZE)
         p.add_argument("--env", metavar="FILE", type=_readable_file,
@@ -566,7 +568,8 @@ def build_parser(command=None):
     if command in (None, "view"):
         p = sub.add_parser("view", help="a live window drawing the document's elements, redrawn as it is edited")
         common(p)
-        shader_interface(p)
+        shader_interface(p, default="specialized: reduced, every input a uniform but those at zero, each kept "
+                                    "once moved off zero")
         p.add_argument("--element", metavar="NAME", type=_name, help="the element to show first (Tab cycles them)")
         p.add_argument("--env", metavar="FILE", type=_readable_file,
                        help="lat-long HDR/EXR environment (default: built-in sky)")
@@ -600,9 +603,7 @@ def build_parser(command=None):
     def web_options(p, what):
         common(p)
         shader_interface(p)
-        p.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir)
-        p.add_argument("--element", metavar="NAME", type=_name,
-                       help="only this element (name path; for a USD stage, a material's prim path or name)")
+        output_dir_and_element(p)
         p.add_argument("--env", metavar="FILE", type=_readable_file,
                        help="lat-long HDR/EXR environment %s (default: built-in sky)" % what)
         p.add_argument("--size", type=_int_in(1, MAX_SIZE), default=256, metavar="N",
