@@ -46,3 +46,21 @@ def test_table_counts_generated_compiled_parity(swept):
     text, totals = unseen_sweep.table(swept, UNSEEN)
     assert totals == [4, 4, 4, 4, 4]
     assert "| surface_unlit_toon.mtlx | 1 | 1 | 1 | 1 | 1 |" in text
+
+
+def test_an_element_whose_materialx_shader_does_not_compile_is_not_counted(tmp_path):
+    """A float input connected to a colour (MaterialXPlayground's type-mismatch.mtlx): we refuse it, MaterialX
+    generates GLSL that does not compile ('uniform float x = 0.5, 0.5, 0.5;'), so the element is not counted."""
+    import unseen_sweep
+    from util import write_doc
+    path = write_doc(tmp_path, '<constant name="c" type="color3"><input name="value" type="color3" '
+                               'value="0.5, 0.5, 0.5" /></constant><surface_unlit name="s" type="surfaceshader">'
+                               '<input name="opacity" type="float" nodename="c" /></surface_unlit>'
+                               '<surfacematerial name="m" type="material"><input name="surfaceshader" '
+                               'type="surfaceshader" nodename="s" /></surfacematerial>')
+    sweep = unseen_sweep.Sweep(size=TEST_SIZE, out=str(tmp_path))
+    try:
+        rows, _ = sweep.document(path)
+    finally:
+        sweep.harness.close()
+    assert len(rows) == 1 and not rows[0]["mx"] and "does not compile" in rows[0]["mx_error"], rows
