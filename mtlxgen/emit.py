@@ -159,6 +159,11 @@ ENVIRONMENT_METHODS = ("fis", "prefiltered")
 _ENVIRONMENT_DEFINES = {"fis": [], "prefiltered": ["MG_ENV_PREFILTERED", "MG_REFRACTION_PREFILTERED"]}
 
 
+# an opaque BSDF (nodes' "opaque") of zero weight where it reflects: nothing reflected, nothing let through
+_OPAQUE_BSDF = "BSDF(vec3(0.0), vec3(0.0))"
+_OPAQUE_CONTEXTS = ("reflection", "indirect")
+
+
 def _at_most_zero(value):
     try:
         return float(value) <= 0.0
@@ -340,17 +345,23 @@ class Emitter:
         node = self.closure_nodes[src.node]
         impl = nodes.lookup(node.nodedef, self.graph.library)
         saved, self.context = self.context, context
+        zero = mxtypes.closure_zero(src.type)          # what the lobe is where it is not computed
         try:
             cond = self.conditions.get(node.id)
             if impl.closure is not None:
                 template = impl.closure.get(context)
-                expr = self.render(template, node, src.type) if template else mxtypes.closure_zero(src.type)
+                expr = self.render(template, node, src.type) if template else zero
                 weight = node.inputs.get("weight")
                 if template and src.type == "BSDF" and weight is not None and weight.type == "float":
                     # a BSDF of (near) zero weight is the empty closure whatever its other inputs are
                     # (as in MaterialX: e.g. gltf_pbr's sheen colour is 0/0 when sheen is off)
                     weighed = "%s >= 1.0e-6" % self.input_expr(node, "weight")
                     cond = closureplan.glsl(closureplan.conjoin(cond, weighed), None)     # "cond && weighed"
+                    if impl.opaque and context in _OPAQUE_CONTEXTS:
+                        # but a lobe that lets nothing through (a diffuse one) stays opaque at zero weight, black
+                        # over what is under it, as MaterialX's: its throughput is 0 at every weight, so the
+                        # picture does not jump between a weight of 1e-6 and 0
+                        zero = _OPAQUE_BSDF
                 if not template:
                     cond = None
             elif impl.outputs:
@@ -364,8 +375,7 @@ class Emitter:
             # reduced interface (fold.py): a guard on literals is decided here, one always true is dropped
             from .fold import static_condition
             cond = static_condition(cond)
-            expr, cond = (mxtypes.closure_zero(src.type), None) if cond is False else (expr, None if cond is True
-                                                                                      else cond)
+            expr, cond = (zero, None) if cond is False else (expr, None if cond is True else cond)
         var = self.fresh("%s_%s" % (node.id, src.output))
         first = len(self.body)
         if cond is None:
@@ -373,7 +383,7 @@ class Emitter:
         else:
             # the empty closure, replaced where the condition holds: a disabled lobe is never computed (an `if`,
             # not `?:`, whose struct operands WebGL's validator refuses though GLSL ES 3.00 allows them)
-            self.line("%s %s = %s;" % (self.glsl_type(src.type), var, mxtypes.closure_zero(src.type)))
+            self.line("%s %s = %s;" % (self.glsl_type(src.type), var, zero))
             self.line("if (%s)" % cond)
             with self.indented():
                 self.line("%s = %s;" % (var, expr))

@@ -368,8 +368,8 @@ def _closure_passthrough(node, ins, otype, impl):
     empty = Source(otype, loc=node.loc)
     weight = ins.get("weight")
     if otype == "BSDF" and weight is not None and weight.type == "float" and is_literal(weight) \
-            and impl.closure is not None and weight.value < BSDF_EPSILON:
-        return empty
+            and impl.closure is not None and weight.value < BSDF_EPSILON and not impl.opaque:
+        return empty        # (an opaque lobe of zero weight is black, not empty: emit.Emitter.closure decides it)
     if cat == "mix" and is_literal(ins["mix"]) and ins["mix"].type == "float":
         m = float(ins["mix"].value)
         clamped = otype in ("BSDF", "VDF")           # mg_mix_BSDF / mg_mix_VDF hold the factor to [0, 1]

@@ -6,7 +6,8 @@ MaterialX with its colour management on (as the scoreboard runs it), in the same
 import numpy as np
 import pytest
 
-from util import assert_parity_with_materialx, generate_one, write_doc
+from mtlxgen import compare
+from util import assert_parity_with_materialx, bsdf_material, generate_one, render_with_materialx, write_doc
 
 UNLIT = ('<surface_unlit name="s" type="surfaceshader"><input name="emission_color" type="color3" nodename="c" />'
          '</surface_unlit><surfacematerial name="m" type="material"><input name="surfaceshader" '
@@ -304,3 +305,37 @@ def test_gltf_base_colour_from_position_matches_materialx(renderer, cms_referenc
             '</gltf_pbr><surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" '
             'nodename="s" /></surfacematerial>')
     assert_parity_with_materialx(renderer, cms_reference, write_doc(tmp_path, body), "m")
+
+
+# ---------------------------------------------------------------- an opaque lobe of zero weight over another
+# Found by tools/range_sweep.py: a diffuse lobe (nothing passes through it at any weight) of weight 0 as a layer's
+# top. MaterialX keeps it opaque, black over its base (as at a weight of 1e-6); ours made it the empty closure and
+# the base showed (mean 62/255 off). Now such a lobe of zero weight is BSDF(0, 0) where it reflects, in both
+# interfaces; a lobe that lets light through (a dielectric) still becomes the empty closure. The same sweep: a
+# translucent or conductor lobe over a base let 1 - weight of it through in ours, nothing in MaterialX's (both are
+# opaque: the weight scales what they send on); now nothing in ours either.
+
+OPAQUE_TOP = ('<%s name="top" type="BSDF"><input name="weight" type="float" value="%s" />%s</%s>'
+              '<oren_nayar_diffuse_bsdf name="base" type="BSDF"><input name="color" type="color3" value="0.9, 0.6, 0.4" />'
+              '</oren_nayar_diffuse_bsdf>'
+              '<layer name="b" type="BSDF"><input name="top" type="BSDF" nodename="top" />'
+              '<input name="base" type="BSDF" nodename="base" /></layer>')
+
+
+@pytest.mark.parametrize("top", ["oren_nayar_diffuse_bsdf", "burley_diffuse_bsdf", "subsurface_bsdf", "translucent_bsdf",
+                                 "conductor_bsdf"])
+@pytest.mark.parametrize("weight", ["0", "0.0000001", "0.3"])
+@pytest.mark.parametrize("interface", ["complete", "reduced"])
+def test_an_opaque_lobe_of_zero_weight_hides_its_base_like_materialx(renderer, cms_reference, tmp_path, monkeypatch,
+                                                                      top, weight, interface):
+    from mtlxgen import pipeline
+    extra = ('<input name="roughness" type="vector2" value="0.3, 0.3" />' if top == "conductor_bsdf" else
+             '<input name="color" type="color3" value="0.2, 0.9, 0.3" />')
+    path = write_doc(tmp_path, bsdf_material(OPAQUE_TOP % (top, weight, extra, top)))
+    monkeypatch.setattr("util.generate_one", lambda p, e=None: pipeline.generate(p, [e], interface=interface)[0])
+    ours, theirs = render_with_materialx(renderer, cms_reference, path, "m")
+    p = compare.parity(ours, theirs)
+    assert p.passes, p
+    if float(weight) < 1e-6:        # black: nothing of the base
+        covered = ours[..., 3] > 0.5
+        assert np.abs(ours[covered][:, :3]).max() < 1e-6

@@ -39,6 +39,7 @@ class Impl:
     files: tuple = ()
     handler: object = None
     closure: dict = None                          # context -> template (closure nodes)
+    opaque: bool = False                          # a BSDF that lets nothing through at any weight (see emit.closure)
     external: tuple = None                        # (GLSL file path, function) from a document's <implementation>
     origin: str = "mtlxgen"
     source: tuple = None                          # (name, Loc) of a document's <implementation>
@@ -51,7 +52,7 @@ def _normalize(entry, origin):
     if "expr" in entry:
         outputs["*"] = entry["expr"]
     return Impl(outputs=outputs, files=tuple(entry.get("files", ())), handler=entry.get("handler"),
-                closure=entry.get("closure"), origin=origin)
+                closure=entry.get("closure"), opaque=bool(entry.get("opaque")), origin=origin)
 
 
 BY_CATEGORY, BY_NODEDEF = {}, {}

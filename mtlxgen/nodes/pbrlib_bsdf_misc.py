@@ -36,12 +36,14 @@ NODES = {
             "reflection": "mg_burley_reflection(mg_L, mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}})",
             "indirect": "mg_burley_indirect(mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}})",
         },
+        "opaque": True,
         "files": [_BSDF + "burley.glsl"]},
     "translucent_bsdf": {
         "closure": {
             "reflection": "mg_translucent_reflection(mg_L, mg_V, {{weight}}, {{color}}, {{normal}})",
             "indirect": "mg_translucent_indirect({{weight}}, {{color}}, {{normal}})",
         },
+        "opaque": True,
         "files": [_BSDF + "translucent.glsl"]},
     "subsurface_bsdf": {
         "closure": {
@@ -49,6 +51,7 @@ NODES = {
                           "{{anisotropy}}, {{normal}})",
             "indirect": "mg_subsurface_indirect({{weight}}, {{color}}, {{normal}})",
         },
+        "opaque": True,
         "files": [_BSDF + "subsurface.glsl"]},
     "sheen_bsdf": {
         # mode is a uniform string: conty_kulla or zeltner picks the function family

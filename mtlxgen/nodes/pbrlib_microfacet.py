@@ -29,6 +29,7 @@ NODES = {
             "indirect": "mg_conductor_indirect(mg_V, %s, {{=retroreflective}}, %s, %s)" % (_CONDUCTOR, _FILM, _FRAME),
             "transmission": "BSDF(vec3(0.0), vec3(1.0 - {{weight}}))",
         },
+        "opaque": True,
         "files": ["pbrlib/microfacet/conductor.glsl"]},
     "generalized_schlick_bsdf": {
         "closure": {

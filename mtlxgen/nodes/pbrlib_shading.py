@@ -52,6 +52,7 @@ NODES = {
             "indirect": "mg_oren_nayar_indirect(mg_V, {{weight}}, {{color}}, {{roughness}}, {{normal}}, "
                         "{{=energy_compensation}})",
         },
+        "opaque": True,
         "files": ["pbrlib/bsdf/oren_nayar.glsl"]},
     "uniform_edf": {"closure": {"emission": "{{color}}"}},
     # displacement (MaterialX Specification 1.39): a scalar moves along the normal; a vector is given
