@@ -422,11 +422,24 @@ SWITCHES = ("MG_NO_THIN_FILM",)
 _DIRECTIVE = re.compile(r"\s*#\s*(ifdef|ifndef|if|else|elif|endif)\b\s*(\w*)")
 
 
+_RESOLVED = {}
+
+
 def resolve_switches(text, defined=()):
     """text with its #ifdef/#ifndef groups on SWITCHES resolved for the names in `defined` (a group on another name
-    passes through whole, with the switch groups inside it resolved)."""
+    passes through whole, with the switch groups inside it resolved). Cached per (text, defined) for the process."""
     if not any(name in text for name in SWITCHES):
         return text
+    key = (text, frozenset(defined))
+    done = _RESOLVED.get(key)
+    if done is None:
+        if len(_RESOLVED) > 4096:          # glsl_lib's few files, documents' own code too: bounded
+            _RESOLVED.clear()
+        done = _RESOLVED[key] = _resolve(text, defined)
+    return done
+
+
+def _resolve(text, defined):
     out = []
     stack = []      # per open group: None (not a switch: passed through) or [keeping, this branch kept]
     for line in text.split("\n"):
@@ -464,13 +477,28 @@ def split_file(rel, text):
     return lf
 
 
+_INDEX = {}
+
+
+def _index(libs):
+    """name -> [items defining it] over LibFiles libs (cached split_file objects: kept per tuple of them)."""
+    key = tuple(id(lf) for lf in libs)
+    by_name = _INDEX.get(key)
+    if by_name is None or any(a is not b for a, b in zip(by_name[0], libs)):      # (an id reused: rebuilt)
+        if len(_INDEX) > 1024:
+            _INDEX.clear()
+        index = {}
+        for lf in libs:
+            for it in lf.items:
+                for n in it.names:
+                    index.setdefault(n, []).append(it)
+        by_name = _INDEX[key] = (list(libs), index)
+    return by_name[1]
+
+
 def reachable(libs, roots):
     """The items of LibFiles libs reachable from the identifier set roots: {id(item)}."""
-    by_name = {}
-    for lf in libs:
-        for it in lf.items:
-            for n in it.names:
-                by_name.setdefault(n, []).append(it)
+    by_name = _index(libs)
     keep, seen, todo = set(), set(), [n for n in roots if n in by_name]
     seen.update(todo)
     while todo:
