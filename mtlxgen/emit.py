@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from . import closureplan, glsldeps, interface, mxtypes, nodes, streams, targets
 from . import template as template_expander
 from .diagnostics import MtlxError
-from .graphtypes import Uniform, unique_identifier
+from .graphtypes import Uniform, sha256, unique_identifier
 from .library import glsl_lib_root
 from .stagewriter import StageWriter, comment_text  # noqa: F401 (emit.comment_text for callers)
 from .template import CLOSURE_TYPES
@@ -76,8 +76,7 @@ def file_stem(element):
 
 
 def _hashed(stem, element, salt=""):
-    import hashlib         # here: loading OpenSSL is 6 ms of a start, and few stems need it
-    digest = hashlib.sha256((element + salt).encode("utf-8", "surrogatepass")).hexdigest()[:10]
+    digest = sha256((element + salt).encode("utf-8", "surrogatepass")).hexdigest()[:10]
     return "%s-%s" % (stem[:STEM_BYTES - len(digest) - 1], digest)
 
 
@@ -550,7 +549,7 @@ class Emitter:
         literal <= 0 and no document GLSL is pasted (it could reach the film code)."""
         for node in self.closure_nodes.values():
             film = node.inputs.get("thinfilm_thickness")
-            if film is not None and not (film.node is None and film.uniform is None and _at_most_zero(film.value)):
+            if film is not None and not (film.literal and _at_most_zero(film.value)):
                 return set()
         return set() if self.external else {"MG_NO_THIN_FILM"}
 

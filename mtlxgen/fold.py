@@ -322,7 +322,7 @@ def evaluate(category, nodedef_name, inputs, types, out_type):
 # ---------------------------------------------------------------- the pass
 
 def is_literal(s):
-    return s.node is None and s.uniform is None
+    return s.literal
 
 
 def is_empty_closure(s):

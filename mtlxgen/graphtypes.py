@@ -27,6 +27,11 @@ class Source:
     def linked(self):
         return self.node is not None
 
+    @property
+    def literal(self):
+        """A constant in the code: neither connected nor a uniform."""
+        return self.node is None and self.uniform is None
+
 
 @dataclass(slots=True)
 class GNode:
@@ -103,14 +108,14 @@ def _glsl_identifier(name):
     if s in _GLSL_RESERVED or s.startswith("gl_") or s.startswith("u_") or s.startswith("i_"):
         s = "n_" + s
     if len(s) > IDENTIFIER_CHARS:
-        digest = _sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+        digest = sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
         s = s[:IDENTIFIER_CHARS - 10].rstrip("_") + "_h" + digest
     return s
 
 
-def _sha256(data):
-    """hashlib.sha256(data), from CPython's own SHA-256 module where it has one: hashlib loads OpenSSL (2 ms of
-    the start of a generate that cuts a long name)."""
+def sha256(data):
+    """hashlib.sha256(data), from CPython's own SHA-256 module where it has one: hashlib loads OpenSSL (2 to 6 ms of
+    the start of a generate that hashes a long name, a clashing stem or a primvar's name)."""
     try:
         from _sha256 import sha256          # CPython 3.11
     except ImportError:

@@ -94,15 +94,18 @@ class Session:
         return warning_lines(self.doc_warnings + [w for w in self.element_warnings.get(name, ())
                                                   if w not in self.doc_warnings])
 
-    def shader(self, name):
-        g, kept = self.graph(name), None
-        if self.interface.reduced:          # reduce.py: constants in the code, then fold.py computes them
+    def shader(self, name, interface=None, graph=None):
+        """Element `name`'s Shader, with the session's interface or `interface` (a reduce.Interface), from its graph
+        or `graph` (this session's graph(name), already built: not built again)."""
+        iface = interface or self.interface
+        g, kept = graph if graph is not None else self.graph(name), None
+        if iface.reduced:          # reduce.py: constants in the code, then fold.py computes them
             from . import fold, reduce
-            g, kept = reduce.reduce(g, self.interface)
+            g, kept = reduce.reduce(g, iface)
             g = fold.fold(g)
         shader = glslcheck.check(emit.emit(g, environment=self.environment, target=self.target,
-                                           max_lights=self.max_lights, compact=self.interface.reduced))
-        shader.manifest["interface"] = self.interface.kind
+                                           max_lights=self.max_lights, compact=iface.reduced))
+        shader.manifest["interface"] = iface.kind
         if kept is not None:
             shader.manifest["kept"] = kept
         if self.stage is not None and name in self.stage.materials:

@@ -171,7 +171,7 @@ class OurGenerator:
         if self.specialize and not session.interface.reduced:
             s = self._specialized(session, name, g)
         else:
-            s = session.shader(name)
+            s = session.shader(name, graph=g)
         notes = session.notes(name)
         if notes:                         # drawn all the same (a USD texture not found draws its fallback)
             s.manifest = dict(s.manifest, notes=["%s: %s" % n for n in notes])
@@ -190,12 +190,7 @@ class OurGenerator:
                 if u.type not in LITERAL_TYPES or u.value is None or not is_zero(u.value):
                     kept.add(n)
             keep = sorted(n for n in g.uniforms if n in kept)
-        saved = session.interface
-        session.interface = Interface("reduced", [(n, None) for n in keep])
-        try:
-            s = session.shader(name)
-        finally:
-            session.interface = saved
+        s = session.shader(name, Interface("reduced", [(n, None) for n in keep]), graph=g)
         s.manifest["folded"] = sorted(n for n in g.uniforms if n not in kept)
         return s
 

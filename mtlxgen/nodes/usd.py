@@ -36,6 +36,7 @@ and accepts the seed's `result` output name for the `out` of USD nodes (UsdPrimv
 import re
 
 from ..files import regular_file_problem
+from ..graphtypes import sha256
 
 USD_CATEGORIES = ("UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader", "UsdTransform2d")
 
@@ -241,8 +242,7 @@ def primvar_attribute(varname):
     if _ATTRIBUTE_PART.fullmatch(varname) and len(varname) <= MAX_ATTRIBUTE_PART:
         return "i_geomprop_" + varname
     kept = "_".join(re.findall(r"[A-Za-z0-9]+", varname, re.ASCII))[:24] or "primvar"
-    import hashlib         # here: loading OpenSSL is 6 ms of a start, and few names need it
-    digest = hashlib.sha256(varname.encode("utf-8", "surrogateescape")).hexdigest()[:10]
+    digest = sha256(varname.encode("utf-8", "surrogateescape")).hexdigest()[:10]
     return "i_geomprop_%s_%s" % (kept, digest)
 
 
