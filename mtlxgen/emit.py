@@ -152,6 +152,11 @@ def lib_source(rels, target="glsl"):
     return "\n".join(interface_declarations(names, target) + [read_lib_file(r)[0] for r in rels])
 
 
+# library_code's pasted sections, per process: (rel, the code used_code kept, compact) -> the text pasted
+_SECTIONS = {}
+_SECTIONS_MAX = 4096
+
+
 # How environment light is integrated (CLI --environment): "fis" samples each lobe (Krivanek & Colbert 2008),
 # "prefiltered" reads one roughness-chosen mip level per lobe (split sum, Karis 2013) through these defines.
 ENVIRONMENT_METHODS = ("fis", "prefiltered")
@@ -540,8 +545,14 @@ class Emitter:
         texts = [(r, glsldeps.resolve_switches(read_lib_file(r)[0], switches)) for r in files]
         out = []
         for rel, text in glsldeps.used_code(texts, roots):
+            key = (rel, text, self.compact)
+            section = _SECTIONS.get(key)
+            if section is None:
+                if len(_SECTIONS) >= _SECTIONS_MAX:
+                    _SECTIONS.clear()
+                section = _SECTIONS[key] = (glsldeps.compact(text, rel) if self.compact else text.rstrip()) + "\n"
             out.append("// ---- glsl_lib/%s" % rel)
-            out.append((glsldeps.compact(text, rel) if self.compact else text.rstrip()) + "\n")
+            out.append(section)
         return out
 
     def paste_switches(self):

@@ -159,6 +159,34 @@ def test_reachability_keeps_what_main_reaches_and_nothing_else():
     assert out == {}
 
 
+def test_identifiers_are_those_of_the_regular_expression():
+    """identifiers() reads ASCII text by translate and split: the same set as _IDENT (members and swizzles after a
+    '.', the letters inside numbers, not identifiers; comments not read), and other scripts through _IDENT."""
+    texts = ["vec3 a = b.xyz * 1.0e5 + c.d.e; float f = .5e3 + 0x1fu + 2.0f; // g h\n/* i */ _j = k2[l].m;",
+             "x.y", ".z", "1.w", "a..b", "_", "__x9", "#define M(p) (p.x + q)", "s.t(u)", "v\t\x0bw\x1cx\x7fy~z",
+             "float r\u00e9sum\u00e9 = \u00fcber.x + a;", ""]
+    for text in texts:
+        assert glsldeps.identifiers(text) == set(glsldeps._IDENT.findall(glsldeps._strip_comments(text, "t"))), text
+
+
+def test_used_code_kept_per_process_is_what_a_fresh_reading_gives(monkeypatch):
+    """used_code is kept per (files, the root identifiers the files define): roots that reach other items, files
+    that differ in one text, and a repeat, in turns, each the same as with nothing kept."""
+    other = [MADE_UP[0], ("b.glsl", "// b\n\nfloat unused_b() { return lookup(0); }\n"), MADE_UP[2]]
+    cases = [(MADE_UP, ["float t = lookup(1);"]), (MADE_UP, ["vec3 c = shade(u_light); float t = lookup(1);"]),
+             (other, ["float t = unused_b();"]), (MADE_UP, ["float t = unused_b();"]),
+             (MADE_UP, ["float t = lookup(1); float n = not_a_library_name;"]), (MADE_UP, ["float t = lookup(1);"])]
+    kept = [glsldeps.used_code(files, roots) for files, roots in cases]
+    fresh = []
+    for files, roots in cases:
+        monkeypatch.setattr(glsldeps, "_USED", {})
+        fresh.append(glsldeps.used_code(files, roots))
+    assert kept == fresh
+    assert kept[0] != kept[1] and kept[2] != kept[3] and kept[0] == kept[4] == kept[5]
+    kept[0].append(("x.glsl", "changed by a caller"))          # a copy: what is kept stays as it was
+    assert glsldeps.used_code(*cases[0]) == fresh[0]
+
+
 def test_switch_keeps_whole_files(monkeypatch):
     monkeypatch.setenv("MTLXGEN_GLSL_DCE", "0")
     assert glsldeps.used_code(MADE_UP, ["void main() { }"]) == MADE_UP
