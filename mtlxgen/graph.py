@@ -76,6 +76,8 @@ class GraphBuilder:
         self.graph_path = []          # "graph.output" of document nodegraph outputs being resolved
         self.direct_graph = None      # the nodegraph whose output is the element drawn (its inputs: sockets)
         self.warnings = Warnings()    # slips MaterialX reads on, met while building (each read as MaterialX reads it)
+        self.recording = None         # the id stems of an expansion being recorded (expansion())
+        self.foreign = False          # the expansion being recorded read what its key does not hold
 
     def warn(self, loc, message):
         self.warnings.add(loc, message)
@@ -87,6 +89,8 @@ class GraphBuilder:
 
     # ---------- names ----------
     def new_id(self, stem):
+        if self.recording is not None:
+            self.recording.append(stem)
         return unique_identifier(stem, self.used_ids)
 
     def add_uniform(self, stem, type_name, value, loc, colorspace=None):
@@ -158,6 +162,7 @@ class GraphBuilder:
                                         scope.graph.name if scope.graph else "the document"))
             return src
         if port.nodegraph and not port.nodename:
+            self.foreign = True
             g = self.doc.nodegraphs.get(port.nodegraph) or self.lib.nodegraphs.get(port.nodegraph)
             if g is None:
                 return self.dangling(port, "input '%s' connects to nodegraph '%s', which does not exist"
@@ -200,6 +205,7 @@ class GraphBuilder:
                                 "output, '%s', as MaterialX does" % (port.name, node.name, first))
             return outs[first]
         if port.output and scope is self.doc_scope:
+            self.foreign = True
             return self.document_output(port)
         return None
 
@@ -358,6 +364,7 @@ class GraphBuilder:
 
     # ---------- nodes ----------
     def geom_source(self, geomprop_name, loc, scope):
+        self.foreign = True
         gp = self.lib.geompropdefs.get(geomprop_name) or self.doc.geompropdefs.get(geomprop_name)
         if gp is None:
             raise MtlxError((loc, "unknown defaultgeomprop '%s'" % geomprop_name))
@@ -516,7 +523,7 @@ class GraphBuilder:
                                  % (MAX_SCOPE_DEPTH, self.expanding[0])))
             self.expanding.append(nd.name)
             try:
-                return self._expand(node, nd, impl_graph, inputs, stem, scope)
+                return self.expansion(node, nd, impl_graph, inputs, stem, scope)
             finally:
                 self.expanding.pop()
         ident = self.new_id(stem)
@@ -525,6 +532,63 @@ class GraphBuilder:
         self.nodes[ident] = g
         self.order.append(ident)
         return {oname: Source(t, node=ident, output=oname, loc=node.loc) for oname, t in g.outputs.items()}
+
+    # ---------- expansions kept per library ----------
+    # A library nodegraph implementation (standard_surface's, open_pbr_surface's: 80-130 nodes) expanded at the top
+    # level (not inside another expansion) is a function of what the walk reads: the nodegraph, the library, the
+    # rules, the document's colour space, and of the outer node's input Sources only their types, kinds (linked,
+    # a uniform, a literal) and literal values (string inputs become static values; a literal is copied into
+    # nodes); the uniforms' and linked outputs' names are passed through, never read. The walk's first run is
+    # recorded as a template (each node's id stem after the outer stem, its inputs as references to the template's
+    # nodes, to the outer inputs or constants); a repeat with the same key makes the same nodes, ids and Sources in
+    # the same order by replaying it: each id from unique_identifier on the same stems in the same order, the outer
+    # inputs substituted. Only a walk that reads nothing else is kept: one that warns, adds a uniform, reads the
+    # geometry (geom_source: its memo is the builder's) or a document nodegraph or output is run in full each time,
+    # as is any expansion in a library that a document overlays with its own definitions (those may be edited).
+    EXPANSIONS_MAX = 1024
+
+    def expansion(self, node, nd, impl_graph, inputs, stem, scope):
+        """_expand, from the library's kept template where there is one (replayed), else recorded where it can be."""
+        if self.recording is not None or len(self.expanding) != 1 or getattr(self.lib, "overlaid", None) is not None:
+            return self._expand(node, nd, impl_graph, inputs, stem, scope)
+        key = self._expansion_key(nd, impl_graph, inputs)
+        if key is None:
+            return self._expand(node, nd, impl_graph, inputs, stem, scope)
+        kept = self.lib.expansions
+        template = kept.get(key)
+        if template is not None:
+            if template.graph is impl_graph:
+                return template.replay(self, stem, inputs)
+            template = None
+        elif key in kept:                   # recorded before and found not to be kept
+            return self._expand(node, nd, impl_graph, inputs, stem, scope)
+        first, uniforms, warnings = len(self.order), len(self.uniforms), len(self.warnings.items)
+        self.recording, self.foreign = [], False
+        try:
+            outs = self._expand(node, nd, impl_graph, inputs, stem, scope)
+            stems = self.recording
+        finally:
+            self.recording = None
+        if len(kept) >= self.EXPANSIONS_MAX:
+            kept.clear()
+        kept[key] = None
+        if not self.foreign and len(self.uniforms) == uniforms and len(self.warnings.items) == warnings:
+            kept[key] = _Expansion.record(self, impl_graph, stem, stems, self.order[first:], inputs, outs)
+        return outs
+
+    def _expansion_key(self, nd, impl_graph, inputs):
+        # and which inputs are one Source (normal and coat_normal both the geometry's normal): a template refers to
+        # an input by the Source's identity
+        first = {}
+        sig = tuple((name, first.setdefault(id(s), name), s.type, s.node is not None, s.output, s.uniform is not None,
+                     s.value if s.node is None and s.uniform is None else None, s.colorspace, s.unit, s.unittype)
+                    for name, s in inputs.items())
+        key = (nd.name, id(impl_graph), self.rules, self.doc.colorspace, sig)
+        try:
+            hash(key)
+        except TypeError:                   # a value that is a list: not kept
+            return None
+        return key
 
     def _expand(self, node, nd, impl_graph, inputs, stem, scope):
         """Instantiate a nodegraph implementation in place of `node`; returns its output sources, in the
@@ -625,6 +689,79 @@ class GraphBuilder:
             shader = outs.get("out")
             return "material", shader
         return "shader", src
+
+
+class _Expansion:
+    """A recorded expansion (GraphBuilder.expansion): the nodes it made, in order, each as its id stem after the
+    outer stem, its fields (category, nodedef, outputs, loc, static) and its inputs as references; its outputs as
+    references. A reference is ("node", index, Source): the Source reading node `index` of the expansion; ("input",
+    name): the outer input itself; ("typed", name, type): the outer input retyped (dataclasses.replace, as check_type
+    and _instantiate retype); ("constant", Source): a Source made inside, the same in every replay (Sources are never
+    changed once made)."""
+    __slots__ = ("graph", "stems", "nodes", "outputs")
+
+    def __init__(self, graph, stems, nodes, outputs):
+        self.graph, self.stems, self.nodes, self.outputs = graph, stems, nodes, outputs
+
+    @classmethod
+    def record(cls, builder, impl_graph, stem, stems, ids, inputs, outs):
+        """The template of an expansion just made (None where it cannot be replayed)."""
+        if len(stems) != len(ids) or not all(s.startswith(stem) for s in stems):
+            return None
+        index = {ident: i for i, ident in enumerate(ids)}
+        if len(index) != len(ids):
+            return None
+        by_identity = {id(s): name for name, s in inputs.items()}
+
+        def ref(s):
+            name = by_identity.get(id(s))
+            if name is not None and inputs[name] is s:
+                return ("input", name)
+            if s.node is not None and s.node in index:
+                return ("node", index[s.node], s)
+            typed = {id(outer): name for name, outer in inputs.items()
+                     if outer.loc is not None and s.type != outer.type and replace(outer, type=s.type) == s}
+            if len(typed) == 1:             # (two inputs, other Sources, equal: which one is not known)
+                return ("typed", next(iter(typed.values())), s.type)
+            if typed:
+                raise LookupError(s)
+            if s.node is None and s.uniform is None:
+                return ("constant", s)
+            raise LookupError(s)
+
+        try:
+            nodes = []
+            for ident in ids:
+                g = builder.nodes[ident]
+                nodes.append(((g.category, g.nodedef, dict(g.outputs), g.loc, dict(g.static)),
+                              [(name, ref(s)) for name, s in g.inputs.items()]))
+            outputs = [(name, ref(s)) for name, s in outs.items()]
+        except LookupError:                 # a Source from outside the expansion, not one of its inputs
+            return None
+        return cls(impl_graph, [s[len(stem):] for s in stems], nodes, outputs)
+
+    def replay(self, builder, stem, inputs):
+        """The expansion's outputs in `builder`, its nodes added: what _expand makes, for an outer node whose
+        expansion key is this template's (stem: the outer node's)."""
+        ids = [builder.new_id(stem + s) for s in self.stems]
+
+        def source(ref):
+            kind = ref[0]
+            if kind == "node":
+                s = ref[2]
+                return Source(s.type, s.value, s.uniform, ids[ref[1]], s.output, s.colorspace, s.unit, s.unittype,
+                              s.loc)
+            if kind == "input":
+                return inputs[ref[1]]
+            if kind == "typed":
+                return replace(inputs[ref[1]], type=ref[2])
+            return ref[1]
+
+        for ident, ((category, nodedef, outputs, loc, static), refs) in zip(ids, self.nodes):
+            builder.nodes[ident] = GNode(ident, category, nodedef, {name: source(r) for name, r in refs},
+                                         dict(outputs), loc, dict(static))
+            builder.order.append(ident)
+        return {name: source(r) for name, r in self.outputs}
 
 
 def build_graph(doc, library, element, rules, warnings=None):
