@@ -190,6 +190,7 @@ class Emitter:
         self.max_lights = int(max_lights)   # u_lightData's length; 0: lit surfaces have no light loop
         self.compact = compact        # library code pasted without comments and blank lines (reduced shaders)
         self.files = []               # glsl_lib files in emission order
+        self._required = set()        # the same files, for require's test
         self.external = []            # (path, text) of document-supplied GLSL
         self.streams = {}             # name -> Stream, in first-use order
         self.app_uniforms = set()
@@ -215,7 +216,7 @@ class Emitter:
         raise MtlxError((node.loc, "node '%s' (%s): %s" % (node.id, node.nodedef.name, message)))
 
     def require(self, rel):
-        if rel in self.files:
+        if rel in self._required:
             return
         try:
             _, deps = read_lib_file(rel)
@@ -224,7 +225,8 @@ class Emitter:
         for d in deps:
             self.require(d)
         self.app_uniforms.update(lib_file_uniforms(rel))
-        if rel not in self.files:
+        if rel not in self._required:
+            self._required.add(rel)
             self.files.append(rel)
 
     def app_uniform(self, name):
@@ -425,7 +427,7 @@ class Emitter:
         if impl is None:
             self.fail(node, "no GLSL implementation for nodedef %s" % node.nodedef.name)
         first_line, first_file = len(self.body), len(self.external)
-        if closureplan.is_closure_node(node):
+        if node.id in self.closure_plan.nodes:        # closureplan.is_closure_node, found once per graph
             for f in impl.files:
                 self.require(f)
             self.closure_nodes[node.id] = node     # evaluated per context by the shader node using it
@@ -453,8 +455,9 @@ class Emitter:
             var = self.fresh("%s_%s" % (node.id, oname))
             self.line("%s %s = %s;" % (self.glsl_type(otype), var, e))
             self.vars[(node.id, oname)] = var
-        self.note_document_code(impl, self.body[first_line:] + [
-            line for _, text in self.external[first_file:] for line in text.splitlines()])
+        if impl.source is not None:
+            self.note_document_code(impl, self.body[first_line:] + [
+                line for _, text in self.external[first_file:] for line in text.splitlines()])
 
     def external_call(self, node, external):
         path, function, loc = external
