@@ -168,6 +168,12 @@ _OPAQUE_BSDF = "BSDF(vec3(0.0), vec3(0.0))"
 _OPAQUE_CONTEXTS = ("reflection", "indirect")
 
 
+# the GLSL spelling of each built-in type that has one, closures aside (Emitter.glsl_type notes those): what
+# mxtypes.glsl_type gives whatever the document's structs (a built-in name is never a struct's)
+_SPELLING = {name: info.glsl for name, info in mxtypes.BUILTIN.items() if info.glsl and not info.closure}
+_CLOSURE_NAMES = frozenset(name for name, info in mxtypes.BUILTIN.items() if info.closure)
+
+
 def _at_most_zero(value):
     try:
         return float(value) <= 0.0
@@ -255,7 +261,7 @@ class Emitter:
             return self.vars[(src.node, src.output)]
         if src.uniform:
             return src.uniform
-        if mxtypes.is_closure(src.type):
+        if src.type in _CLOSURE_NAMES:
             self.uses_closures = True
             return mxtypes.closure_zero(src.type)
         try:
@@ -276,7 +282,10 @@ class Emitter:
 
     def glsl_type(self, mx_type, loc=None):
         """GLSL spelling of a type; an error at `loc` (else the node being emitted) for a type without one."""
-        if mxtypes.is_closure(mx_type):
+        t = _SPELLING.get(mx_type)
+        if t is not None:
+            return t
+        if mx_type in _CLOSURE_NAMES:
             self.uses_closures = True
         try:
             t = mxtypes.glsl_type(mx_type, self.graph.structs)
@@ -344,8 +353,9 @@ class Emitter:
         if src.node is None or src.node not in self.closure_nodes:
             return self.expr(src)
         key = (self.block, src.node, src.output)
-        if key in self.closure_vars:
-            return self.closure_vars[key]
+        var = self.closure_vars.get(key)
+        if var is not None:
+            return var
         if src.node not in self.conditions:
             self.take_plan(src.node)
         node = self.closure_nodes[src.node]
@@ -382,18 +392,21 @@ class Emitter:
             from .fold import static_condition
             cond = static_condition(cond)
             expr, cond = (zero, None) if cond is False else (expr, None if cond is True else cond)
-        var = self.fresh("%s_%s" % (node.id, src.output))
+        var = unique_identifier("%s_%s" % (node.id, src.output), self.names)      # (self.fresh)
         first = len(self.body)
+        w = self.writer
         if cond is None:
-            self.line("%s %s = %s;" % (self.glsl_type(src.type), var, expr))
+            w.line("%s %s = %s;" % (self.glsl_type(src.type), var, expr))
         else:
             # the empty closure, replaced where the condition holds: a disabled lobe is never computed (an `if`,
             # not `?:`, whose struct operands WebGL's validator refuses though GLSL ES 3.00 allows them)
-            self.line("%s %s = %s;" % (self.glsl_type(src.type), var, zero))
-            self.line("if (%s)" % cond)
-            with self.indented():
-                self.line("%s = %s;" % (var, expr))
-        self.note_document_code(impl, self.body[first:])
+            w.line("%s %s = %s;" % (self.glsl_type(src.type), var, zero))
+            w.line("if (%s)" % cond)
+            w.depth += 1                # (self.indented(), without a context manager's cost)
+            w.line("%s = %s;" % (var, expr))
+            w.depth -= 1
+        if impl.source is not None:
+            self.note_document_code(impl, self.body[first:])
         self.closure_vars[key] = var
         return var
 
@@ -452,8 +465,8 @@ class Emitter:
             if _is_plain_name(e) or otype in ("filename", "string"):
                 self.vars[(node.id, oname)] = e     # pass-through: no copy
                 continue
-            var = self.fresh("%s_%s" % (node.id, oname))
-            self.line("%s %s = %s;" % (self.glsl_type(otype), var, e))
+            var = unique_identifier("%s_%s" % (node.id, oname), self.names)       # (self.fresh)
+            self.writer.line("%s %s = %s;" % (_SPELLING.get(otype) or self.glsl_type(otype), var, e))
             self.vars[(node.id, oname)] = var
         if impl.source is not None:
             self.note_document_code(impl, self.body[first_line:] + [
@@ -570,12 +583,14 @@ class Emitter:
     def reachable(self, src, skip=None):
         """Ids of the nodes `src` depends on, not following the (node id, input) edge `skip`."""
         by_id = {n.id: n for n in self.graph.nodes}
-        seen, stack = set(), [src]
+        seen, stack = set(), [src.node] if src.node is not None else []
         while stack:
-            s = stack.pop()
-            if s.node is not None and s.node not in seen:
-                seen.add(s.node)
-                stack.extend(v for k, v in by_id[s.node].inputs.items() if (s.node, k) != skip)
+            node_id = stack.pop()
+            if node_id not in seen:
+                seen.add(node_id)
+                for k, v in by_id[node_id].inputs.items():
+                    if v.node is not None and v.node not in seen and (node_id, k) != skip:
+                        stack.append(v.node)
         return seen
 
     def emit(self):
@@ -599,7 +614,7 @@ class Emitter:
                 self.emit_node(node)
         self.current = None
         out_expr = self.output_statement(g.result)
-        if any(mxtypes.is_closure(t) for n in g.nodes if n.id in fragment_ids for t in n.outputs.values()):
+        if any(not _CLOSURE_NAMES.isdisjoint(n.outputs.values()) for n in g.nodes if n.id in fragment_ids):
             self.uses_closures = True          # shader-typed values need the closure structs
         if self.uses_closures:              # the closure types first, once (a library file may require them too)
             self.files = ["closures.glsl"] + [f for f in self.files if f != "closures.glsl"]

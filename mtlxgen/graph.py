@@ -641,12 +641,14 @@ class GraphBuilder:
     def build_result(self, result, element, kind="output"):
         """The pruned, ordered Graph of everything `result` depends on."""
         # prune: keep only nodes reachable from the result
-        needed, stack = set(), [result]
+        needed, stack, by_id = set(), [result.node] if result.node is not None else [], self.nodes
         while stack:
-            s = stack.pop()
-            if s.linked and s.node not in needed:
-                needed.add(s.node)
-                stack.extend(self.nodes[s.node].inputs.values())
+            node_id = stack.pop()
+            if node_id not in needed:
+                needed.add(node_id)
+                for s in by_id[node_id].inputs.values():
+                    if s.node is not None and s.node not in needed:
+                        stack.append(s.node)
         nodes = [self.nodes[i] for i in self.order if i in needed]
         used_uniforms = {s.uniform for n in nodes for s in n.inputs.values() if s.uniform}
         if result.uniform:
@@ -758,8 +760,18 @@ class _Expansion:
             return ref[1]
 
         for ident, ((category, nodedef, outputs, loc, static), refs) in zip(ids, self.nodes):
-            builder.nodes[ident] = GNode(ident, category, nodedef, {name: source(r) for name, r in refs},
-                                         dict(outputs), loc, dict(static))
+            made = {}
+            for name, r in refs:            # source(r), inline: the most frequent first
+                kind = r[0]
+                if kind == "node":
+                    s = r[2]
+                    made[name] = Source(s.type, s.value, s.uniform, ids[r[1]], s.output, s.colorspace, s.unit,
+                                        s.unittype, s.loc)
+                elif kind == "input":
+                    made[name] = inputs[r[1]]
+                else:
+                    made[name] = source(r)
+            builder.nodes[ident] = GNode(ident, category, nodedef, made, dict(outputs), loc, dict(static))
             builder.order.append(ident)
         return {name: source(r) for name, r in self.outputs}
 

@@ -317,15 +317,18 @@ def zero(type_name, structs=None):
     return None
 
 
+_CLOSURE_ZERO = {
+    "BSDF": "BSDF(vec3(0.0), vec3(1.0))",
+    "EDF": "vec3(0.0)",
+    "VDF": "VDF(vec3(0.0), vec3(1.0))",
+    "surfaceshader": "surfaceshader(vec3(0.0), vec3(0.0))",
+    "material": "surfaceshader(vec3(0.0), vec3(0.0))",
+    "volumeshader": "volumeshader(vec3(0.0), vec3(0.0))",
+    "displacementshader": "displacementshader(vec3(0.0), 1.0)",
+    "lightshader": "lightshader(vec3(0.0), vec3(0.0))",
+}
+
+
 def closure_zero(type_name):
     """GLSL expression of an empty closure value."""
-    return {
-        "BSDF": "BSDF(vec3(0.0), vec3(1.0))",
-        "EDF": "vec3(0.0)",
-        "VDF": "VDF(vec3(0.0), vec3(1.0))",
-        "surfaceshader": "surfaceshader(vec3(0.0), vec3(0.0))",
-        "material": "surfaceshader(vec3(0.0), vec3(0.0))",
-        "volumeshader": "volumeshader(vec3(0.0), vec3(0.0))",
-        "displacementshader": "displacementshader(vec3(0.0), 1.0)",
-        "lightshader": "lightshader(vec3(0.0), vec3(0.0))",
-    }[type_name]
+    return _CLOSURE_ZERO[type_name]

@@ -80,12 +80,19 @@ def render(em, template, node, out_type):
     """The template of `node` (whose output has type `out_type`) expanded through emitter `em`."""
     toks, unterminated = parse(template)
     inputs = node.inputs
+    values, closure_nodes = em.vars, em.closure_nodes
     out = []
     for kind, text in toks:
         if kind is None:
             out.append(text)
         elif kind == "input" and text in inputs:
-            out.append(_input(em, text, inputs[text], node))
+            src = inputs[text]
+            # the common case first: another node's (not a closure node's) output, as em.expr reads it (a normal
+            # may be turned towards the viewer: _input)
+            if src.node is not None and text != "normal" and src.node not in closure_nodes:
+                out.append(values[(src.node, src.output)])
+            else:
+                out.append(_input(em, text, src, node))
         else:
             out.append(field(em, text, node, out_type))
     if unterminated:
