@@ -34,16 +34,28 @@ def disjoin(a, b):
     return ("or", a, b)
 
 
-def glsl(cond, input_values):
-    """GLSL text of a condition (None stays None); input_values(node id) -> {input name: GLSL expression}."""
+def glsl(cond, input_values, memo=None):
+    """GLSL text of a condition (None stays None); input_values(node id) -> {input name: GLSL expression}.
+
+    memo: a dict for the text of each condition tuple written, by identity (a plan's conditions share their
+    parents' tuples): for one input_values, while the conditions it holds are alive (ClosurePlan keeps them)."""
     if cond is None or isinstance(cond, str):
         return cond
+    if memo is not None:
+        text = memo.get(id(cond))
+        if text is not None:
+            return text
     if cond[0] == "edge":
-        return cond[2].format(**input_values(cond[1]))
-    a, b = glsl(cond[1], input_values), glsl(cond[2], input_values)
-    if cond[0] == "and":            # && binds tighter than ||: a disjunction inside a conjunction is bracketed
-        return "%s && %s" % tuple("(%s)" % s if "||" in s else s for s in (a, b))
-    return "(%s) || (%s)" % (a, b)
+        text = cond[2].format(**input_values(cond[1]))
+    else:
+        a, b = glsl(cond[1], input_values, memo), glsl(cond[2], input_values, memo)
+        if cond[0] == "and":        # && binds tighter than ||: a disjunction inside a conjunction is bracketed
+            text = "%s && %s" % tuple("(%s)" % s if "||" in s else s for s in (a, b))
+        else:
+            text = "(%s) || (%s)" % (a, b)
+    if memo is not None:
+        memo[id(cond)] = text
+    return text
 
 
 class ClosurePlan:

@@ -413,8 +413,17 @@ class Emitter:
     def take_plan(self, root):
         """The closure plan's conditions for the closure nodes upstream of `root`, written as GLSL; a node
         planned before keeps its first condition."""
-        for node_id, cond in self.closure_plan.conditions(root).items():
-            text = closureplan.glsl(cond, self.condition_values)
+        plan = self.closure_plan.conditions(root)      # (kept by the plan: the memo's ids stay theirs)
+        values, memo = {}, {}
+
+        def input_values(node_id):                      # condition_values, once per node in this plan
+            v = values.get(node_id)
+            if v is None:
+                v = values[node_id] = self.condition_values(node_id)
+            return v
+
+        for node_id, cond in plan.items():
+            text = closureplan.glsl(cond, input_values, memo)
             self.conditions.setdefault(node_id, text)
 
     def condition_values(self, node_id):

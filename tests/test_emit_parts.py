@@ -65,3 +65,20 @@ def test_closure_planning_is_plain_data_over_the_graph(tmp_path):
     # a disjunction of uses, conjoined with a weight, keeps its brackets (&& binds tighter than ||)
     assert closureplan.glsl(closureplan.conjoin(closureplan.disjoin(conds[a], conds[b]), "w"),
                             lambda node_id: {"mix": "k"}) == "((k != 0.0) || (k != 1.0)) && w"
+
+
+def test_closure_condition_memo_is_by_identity_and_per_input_values():
+    # take_plan writes a plan's conditions with one memo: shared parents written once, the same text as without it
+    edge_a, edge_b = ("edge", "m", "{mix} != 0.0"), ("edge", "n", "{mix} != 1.0")
+    parent = closureplan.conjoin(edge_a, "w")
+    conds = [parent, closureplan.conjoin(parent, edge_b), closureplan.disjoin(closureplan.conjoin(parent, edge_b), edge_a)]
+    values = {"m": {"mix": "k"}, "n": {"mix": "j"}}
+    memo = {}
+    with_memo = [closureplan.glsl(c, values.get, memo) for c in conds]
+    assert with_memo == [closureplan.glsl(c, values.get) for c in conds]
+    assert with_memo[1] == "k != 0.0 && w && j != 1.0"
+    # an equal condition that is another tuple is written afresh; another emission's values take another memo
+    other = tuple(list(edge_a))             # (a literal tuple equal to edge_a could be the same constant)
+    assert other == edge_a and other is not edge_a
+    assert closureplan.glsl(other, {"m": {"mix": "q"}}.get, memo) == "q != 0.0"
+    assert closureplan.glsl(parent, {"m": {"mix": "q"}}.get, {}) == "q != 0.0 && w"
