@@ -449,13 +449,13 @@ class Emitter:
         if impl is None:
             self.fail(node, "no GLSL implementation for nodedef %s" % node.nodedef.name)
         first_line, first_file = len(self.body), len(self.external)
-        if node.id in self.closure_plan.nodes:        # closureplan.is_closure_node, found once per graph
-            for f in impl.files:
+        required = self._required
+        for f in impl.files:
+            if f not in required:       # (require's own first test)
                 self.require(f)
+        if node.id in self.closure_plan.nodes:        # closureplan.is_closure_node, found once per graph
             self.closure_nodes[node.id] = node     # evaluated per context by the shader node using it
             return
-        for f in impl.files:
-            self.require(f)
         if impl.external is not None:
             exprs = self.external_call(node, impl.external)
         elif impl.handler:

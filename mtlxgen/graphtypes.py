@@ -128,7 +128,7 @@ def sha256(data):
 
 def unique_identifier(stem, taken):
     """A GLSL identifier from `stem` not yet in `taken` (a counter appended where needed); adds it."""
-    base = glsl_identifier(stem)
+    base = _IDENTIFIERS.get(stem) or glsl_identifier(stem)       # (glsl_identifier's look-up, inline)
     name, k = base, 1
     while name in taken:
         k += 1

@@ -89,8 +89,13 @@ def render(em, template, node, out_type):
             src = inputs[text]
             # the common case first: another node's (not a closure node's) output, as em.expr reads it (a normal
             # may be turned towards the viewer: _input)
-            if src.node is not None and text != "normal" and src.node not in closure_nodes:
-                out.append(values[(src.node, src.output)])
+            if src.node is not None:
+                if text != "normal" and src.node not in closure_nodes:
+                    out.append(values[(src.node, src.output)])
+                else:
+                    out.append(_input(em, text, src, node))
+            elif src.uniform and text != "normal" and src.type != "string" and src.type != "geomname":
+                out.append(src.uniform)             # a public uniform, as em.expr reads it
             else:
                 out.append(_input(em, text, src, node))
         else:
