@@ -132,10 +132,28 @@ def lib_file_uniforms(rel):
     return _FILE_UNIFORMS[rel]
 
 
+# interface_declarations of a set of names, per process: (frozenset(names), target, max_lights) -> the lines (what
+# they depend on besides interface.TABLE's frozen records); a few hundred sets at most, bounded all the same
+_DECLARATIONS = {}
+_DECLARATIONS_MAX = 1024
+
+
 def interface_declarations(names, target="glsl", max_lights=interface.MAX_LIGHTS):
     """GLSL declarations of the named application uniforms for a target without a uniform block (what a
     stage or a test assembling glsl_lib files by hand puts before the files): the light record, then the
     uniforms in name order."""
+    if isinstance(names, (set, frozenset)) and type(target) is str and type(max_lights) is int:
+        key = (frozenset(names), target, max_lights)
+        lines = _DECLARATIONS.get(key)
+        if lines is None:
+            if len(_DECLARATIONS) >= _DECLARATIONS_MAX:
+                _DECLARATIONS.clear()
+            lines = _DECLARATIONS[key] = tuple(_interface_declarations(names, target, max_lights))
+        return list(lines)
+    return _interface_declarations(names, target, max_lights)
+
+
+def _interface_declarations(names, target, max_lights):
     t = targets.get(target)
     lines = interface.types_needed(names, max_lights)
     for name in sorted(names):

@@ -745,7 +745,8 @@ class _Expansion:
     def replay(self, builder, stem, inputs):
         """The expansion's outputs in `builder`, its nodes added: what _expand makes, for an outer node whose
         expansion key is this template's (stem: the outer node's)."""
-        ids = [builder.new_id(stem + s) for s in self.stems]
+        taken = builder.used_ids        # builder.new_id, inline (a replay is never recorded: expansion())
+        ids = [unique_identifier(stem + s, taken) for s in self.stems]
 
         def source(ref):
             kind = ref[0]

@@ -82,3 +82,21 @@ def test_closure_condition_memo_is_by_identity_and_per_input_values():
     assert other == edge_a and other is not edge_a
     assert closureplan.glsl(other, {"m": {"mix": "q"}}.get, memo) == "q != 0.0"
     assert closureplan.glsl(parent, {"m": {"mix": "q"}}.get, {}) == "q != 0.0 && w"
+
+
+def test_interface_declarations_kept_per_names_target_and_lights():
+    # emit keeps each set's declarations: every part of the key changes them, and a kept answer is a fresh one's
+    base = {"u_envMatrix", "u_viewPosition"}
+    cases = [(base, "glsl", 0), (base, "essl", 0), (base | {"u_lightData"}, "glsl", 0),
+             (base | {"u_lightData"}, "glsl", 3), (frozenset(base | {"u_lightData"}), "glsl", 3)]
+    seen = []
+    for names, target, lights in cases * 2:
+        lines = emit.interface_declarations(names, target, lights)
+        assert lines == emit._interface_declarations(set(names), target, lights)
+        lines.append("changed")                 # a caller's list is its own: the kept lines stay as they were
+        seen.append(emit.interface_declarations(names, target, lights))
+    assert len({tuple(s) for s in seen}) == 4   # glsl/essl, with and without the light record, 0 and 3 lights
+    assert seen[2] != seen[3] and seen[0] != seen[1]
+    # a list with a name twice is declared as it always was (not kept under its set)
+    assert emit.interface_declarations(["u_envMatrix", "u_envMatrix"]) == emit._interface_declarations(
+        ["u_envMatrix", "u_envMatrix"], "glsl", emit.interface.MAX_LIGHTS)
