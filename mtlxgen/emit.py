@@ -226,6 +226,7 @@ class Emitter:
         self.primvars = []            # manifest "primvars": readers of named geometry primvars (nodes/usd.py)
         self.uses_closures = False
         self.closure_nodes = {}       # id -> GNode of closure nodes, evaluated per context by shader nodes
+        self._closure_impls = {}      # id -> the nodes.Impl emit_node looked up for each of them
         self.context = None           # closure context being emitted ("reflection", "indirect", ...)
         self.block = 0                # serial of the current closure block (closure variables live in it)
         self.closure_vars = {}        # (block, node id, output) -> variable
@@ -377,7 +378,7 @@ class Emitter:
         if src.node not in self.conditions:
             self.take_plan(src.node)
         node = self.closure_nodes[src.node]
-        impl = nodes.lookup(node.nodedef, self.graph.library)
+        impl = self._closure_impls.get(src.node) or nodes.lookup(node.nodedef, self.graph.library)
         saved, self.context = self.context, context
         zero = mxtypes.closure_zero(src.type)          # what the lobe is where it is not computed
         try:
@@ -473,6 +474,7 @@ class Emitter:
                 self.require(f)
         if node.id in self.closure_plan.nodes:        # closureplan.is_closure_node, found once per graph
             self.closure_nodes[node.id] = node     # evaluated per context by the shader node using it
+            self._closure_impls[node.id] = impl
             return
         if impl.external is not None:
             exprs = self.external_call(node, impl.external)
