@@ -8,6 +8,7 @@ import pytest
 
 from conftest import DATA_EXAMPLES, EXAMPLES, HAVE_CORPUS, ROOT, TESTSUITE
 from mtlxgen import library, pipeline
+from mtlxgen.diagnostics import MtlxError
 from mtlxgen.graphtypes import GNode
 
 DOCUMENTS = sorted(glob.glob(os.path.join(ROOT, "examples", "**", "*.mtlx"), recursive=True)
@@ -106,8 +107,8 @@ def _same_graphs(path):
     documents and elements too), against full walks."""
     try:
         session = pipeline.Session(path)
-    except Exception:
-        pytest.skip("the document does not open")
+    except MtlxError as e:                  # (an included file the corpus lacks; nothing to render): said, not hidden
+        pytest.skip("the document does not open: %s" % e.lines()[0][:160])
     names = list(session.elements) * 2
     try:
         fresh = _graphs(path, names, fresh=True)
