@@ -318,6 +318,11 @@ class Emitter:
         return t
 
     def fresh(self, stem):
+        return self._take(stem)
+
+    def _take(self, stem):
+        """A variable's name from `stem` (each name the emission takes goes through here: emitcache.py records
+        the stems)."""
         return unique_identifier(stem, self.names)
 
     def uniform(self, name):
@@ -411,7 +416,7 @@ class Emitter:
             from .fold import static_condition
             cond = static_condition(cond)
             expr, cond = (zero, None) if cond is False else (expr, None if cond is True else cond)
-        var = unique_identifier("%s_%s" % (node.id, src.output), self.names)      # (self.fresh)
+        var = self._take("%s_%s" % (node.id, src.output))
         first = len(self.body)
         w = self.writer
         if cond is None:
@@ -494,7 +499,7 @@ class Emitter:
             if _is_plain_name(e) or otype in ("filename", "string"):
                 self.vars[(node.id, oname)] = e     # pass-through: no copy
                 continue
-            var = unique_identifier("%s_%s" % (node.id, oname), self.names)       # (self.fresh)
+            var = self._take("%s_%s" % (node.id, oname))
             self.writer.line("%s %s = %s;" % (_SPELLING.get(otype) or self.glsl_type(otype), var, e))
             self.vars[(node.id, oname)] = var
         if impl.source is not None:
@@ -638,9 +643,23 @@ class Emitter:
                 if node.id in vertex_ids:
                     vertex_emitter.emit_node(node)
             vertex_emitter.result = vertex_emitter.expr(disp)
-        for node in g.nodes:
-            if node.id in fragment_ids:
-                self.emit_node(node)
+        runs = g.__dict__.get("expansion_runs") if vertex_emitter is None and type(self) is Emitter else None
+        if runs:                    # kept expansions' nodes, from their kept emission where it can be (emitcache.py)
+            from .emitcache import emit_run
+            nodes_, i, n = g.nodes, 0, len(g.nodes)
+            while i < n:
+                run = runs.get(i)
+                if run is not None and emit_run(self, run, fragment_ids):
+                    i += len(run.ids)
+                    continue
+                node = nodes_[i]
+                if node.id in fragment_ids:
+                    self.emit_node(node)
+                i += 1
+        else:
+            for node in g.nodes:
+                if node.id in fragment_ids:
+                    self.emit_node(node)
         self.current = None
         out_expr = self.output_statement(g.result)
         if any(not _CLOSURE_NAMES.isdisjoint(n.outputs.values()) for n in g.nodes if n.id in fragment_ids):

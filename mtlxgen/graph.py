@@ -78,6 +78,7 @@ class GraphBuilder:
         self.warnings = Warnings()    # slips MaterialX reads on, met while building (each read as MaterialX reads it)
         self.recording = None         # the id stems of an expansion being recorded (expansion())
         self.foreign = False          # the expansion being recorded read what its key does not hold
+        self.kept_runs = []           # (template, ids, inputs) of each kept expansion made (emitcache.py)
 
     def warn(self, loc, message):
         self.warnings.add(loc, message)
@@ -573,7 +574,9 @@ class GraphBuilder:
             kept.clear()
         kept[key] = None
         if not self.foreign and len(self.uniforms) == uniforms and len(self.warnings.items) == warnings:
-            kept[key] = _Expansion.record(self, impl_graph, stem, stems, self.order[first:], inputs, outs)
+            template = kept[key] = _Expansion.record(self, impl_graph, stem, stems, self.order[first:], inputs, outs)
+            if template is not None:
+                self.kept_runs.append((template, self.order[first:], inputs))
         return outs
 
     def _expansion_key(self, nd, impl_graph, inputs):
@@ -654,9 +657,13 @@ class GraphBuilder:
         if result.uniform:
             used_uniforms.add(result.uniform)
         uniforms = {k: u for k, u in self.uniforms.items() if k in used_uniforms}
-        return Graph(element=element, kind=kind, result=result, nodes=nodes, uniforms=uniforms,
-                     structs=self.lib.structs, doc_path=self.doc.path, library=self.lib,
-                     colorspace=self.doc.colorspace)
+        g = Graph(element=element, kind=kind, result=result, nodes=nodes, uniforms=uniforms,
+                  structs=self.lib.structs, doc_path=self.doc.path, library=self.lib,
+                  colorspace=self.doc.colorspace)
+        if self.kept_runs:
+            from .emitcache import graph_runs
+            g.expansion_runs = graph_runs(nodes, self.kept_runs)
+        return g
 
     def _element_result(self, element):
         doc = self.doc
@@ -700,10 +707,11 @@ class _Expansion:
     name): the outer input itself; ("typed", name, type): the outer input retyped (dataclasses.replace, as check_type
     and _instantiate retype); ("constant", Source): a Source made inside, the same in every replay (Sources are never
     changed once made)."""
-    __slots__ = ("graph", "stems", "nodes", "outputs")
+    __slots__ = ("graph", "stems", "nodes", "outputs", "emitted")
 
     def __init__(self, graph, stems, nodes, outputs):
         self.graph, self.stems, self.nodes, self.outputs = graph, stems, nodes, outputs
+        self.emitted = {}               # emitcache.py: emitter settings -> the recorded emission (or False)
 
     @classmethod
     def record(cls, builder, impl_graph, stem, stems, ids, inputs, outs):
@@ -747,6 +755,7 @@ class _Expansion:
         expansion key is this template's (stem: the outer node's)."""
         taken = builder.used_ids        # builder.new_id, inline (a replay is never recorded: expansion())
         ids = [unique_identifier(stem + s, taken) for s in self.stems]
+        builder.kept_runs.append((self, ids, inputs))
 
         def source(ref):
             kind = ref[0]
