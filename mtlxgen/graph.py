@@ -546,6 +546,7 @@ class GraphBuilder:
     # inputs substituted. Only a walk that reads nothing else is kept: one that warns, adds a uniform, reads the
     # geometry (geom_source: its memo is the builder's) or a document nodegraph or output is run in full each time,
     # as is any expansion in a library that a document overlays with its own definitions (those may be edited).
+    # A key is recorded the second time it is met (_SEEN the first) and replayed from the third on.
     EXPANSIONS_MAX = 1024
 
     def expansion(self, node, nd, impl_graph, inputs, stem, scope):
@@ -556,13 +557,17 @@ class GraphBuilder:
         if key is None:
             return self._expand(node, nd, impl_graph, inputs, stem, scope)
         kept = self.lib.expansions
-        template = kept.get(key)
-        if template is not None:
-            if template.graph is impl_graph:
-                return template.replay(self, stem, inputs)
-            template = None
-        elif key in kept:                   # recorded before and found not to be kept
+        template = kept.get(key, _UNSEEN)
+        if template is _UNSEEN:             # seen first: walked, not recorded (a process generating one material
+            if len(kept) >= self.EXPANSIONS_MAX:        # pays nothing for what it would never replay)
+                kept.clear()
+            kept[key] = _SEEN
             return self._expand(node, nd, impl_graph, inputs, stem, scope)
+        if template is not _SEEN:
+            if template is not None and template.graph is impl_graph:
+                return template.replay(self, stem, inputs)
+            if template is None:            # recorded before and found not to be kept
+                return self._expand(node, nd, impl_graph, inputs, stem, scope)
         first, uniforms, warnings = len(self.order), len(self.uniforms), len(self.warnings.items)
         self.recording, self.foreign = [], False
         try:
@@ -698,6 +703,9 @@ class GraphBuilder:
             shader = outs.get("out")
             return "material", shader
         return "shader", src
+
+
+_UNSEEN, _SEEN = object(), object()      # GraphBuilder.expansion: a key not met yet / met once
 
 
 class _Expansion:
