@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from . import closureplan, glsldeps, interface, mxtypes, nodes, streams, targets
 from . import template as template_expander
 from .diagnostics import MtlxError
-from .graphtypes import Uniform, sha256, unique_identifier
+from .graphtypes import Uniform, is_plain_name, sha256, unique_identifier
 from .library import glsl_lib_root
 from .stagewriter import StageWriter, comment_text  # noqa: F401 (emit.comment_text for callers)
 from .template import CLOSURE_TYPES
@@ -496,7 +496,7 @@ class Emitter:
                 exprs[oname] = self.render(template, node, otype)
         for oname, otype in node.outputs.items():
             e = exprs[oname]
-            if _is_plain_name(e) or otype in ("filename", "string"):
+            if is_plain_name(e) or otype in ("filename", "string"):
                 self.vars[(node.id, oname)] = e     # pass-through: no copy
                 continue
             var = self._take("%s_%s" % (node.id, oname))
@@ -954,10 +954,6 @@ def struct_order(names, structs):
                     done.add(name)
                     order.append(name)
     return order
-
-
-def _is_plain_name(e):
-    return e.replace("_", "a").isalnum() and not e[0].isdigit() and e not in ("true", "false")
 
 
 def emit(graph, environment="fis", target="glsl", max_lights=0, compact=False):

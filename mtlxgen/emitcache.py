@@ -30,7 +30,7 @@ REUSE (module flag; MTLXGEN_EMIT_REUSE=0 in the environment) turns the reuse off
 
 What the argument rests on: emission's choices do not depend on the spelling of a name or of an outer expression
 (templates paste them; the handlers allowed read ids only to make stems; the one test of a text, emit's
-_is_plain_name, answers the same for a sentinel and a real name as long as no template glues an identifier onto
+is_plain_name, answers the same for a sentinel and a real name as long as no template glues an identifier onto
 an input's expression, which none does) and a run's emission reads no state from before it but the names taken,
 the files required and the streams read (replayed through the emitter) and the outer inputs' variables.
 """
@@ -38,7 +38,7 @@ import copy
 import os
 import re
 
-from .graphtypes import unique_identifier
+from .graphtypes import is_plain_name, unique_identifier
 from .stagewriter import StageWriter
 
 REUSE = os.environ.get("MTLXGEN_EMIT_REUSE", "1") != "0"
@@ -51,34 +51,6 @@ STATS = {"recorded": 0, "checked": 0, "reused": 0, "unkept": 0, "refused": 0}
 _CLOSURES = frozenset(("BSDF", "EDF", "VDF"))
 _SEP = "\x1f"           # joins the texts of one format string (never in emitted GLSL: checked when recording)
 _SENTINEL = re.compile(r"QZ([nieo])(\d+)\1ZQ")
-
-
-class _Run:
-    """A kept expansion's nodes in one graph: graph.nodes[start:start + len(ids)]."""
-    __slots__ = ("template", "start", "ids", "inputs", "nodes")
-
-    def __init__(self, template, start, ids, inputs, nodes):
-        self.template, self.start, self.ids, self.inputs, self.nodes = template, start, ids, inputs, nodes
-
-    def __deepcopy__(self, memo):       # a view of the library's kept expansion (shared, as the library is)
-        return self
-
-
-def graph_runs(nodes, kept_runs):
-    """{start index: _Run} of the kept expansions whose nodes all are in `nodes`, contiguous and in order."""
-    runs = {}
-    if not REUSE:
-        return runs
-    first = {ids[0]: (template, ids, inputs) for template, ids, inputs in kept_runs if ids}
-    for i, n in enumerate(nodes):
-        entry = first.get(n.id)
-        if entry is None:
-            continue
-        template, ids, inputs = entry
-        part = nodes[i:i + len(ids)]
-        if len(part) == len(ids) and all(p.id == ident for p, ident in zip(part, ids)):
-            runs[i] = _Run(template, i, ids, inputs, part)
-    return runs
 
 
 def _handlers():
@@ -96,7 +68,6 @@ def _settings(em):
 
 def _outer_exprs(em, run, names):
     """The GLSL expressions of the outer inputs `names` in `em`, or None where one cannot be reused."""
-    from .emit import _is_plain_name
     out = []
     for name in names:
         s = run.inputs[name]
@@ -106,7 +77,7 @@ def _outer_exprs(em, run, names):
             e = em.vars.get((s.node, s.output))
         else:
             e = s.uniform
-        if e is None or not _is_plain_name(e):
+        if e is None or not is_plain_name(e):
             return None
         out.append(e)
     return out
@@ -232,7 +203,7 @@ def _record(em, run):
     g = copy.copy(em.graph)
     g.nodes, g.uniforms = sandbox, {}
     g.__dict__.pop("expansion_runs", None)
-    r = _Recorder(g, em.environment, em.target.name, em.max_lights, em.compact)
+    r = _Recorder(type(em), g, em.environment, em.target.name, em.max_lights, em.compact)
     r.vars.update(fake_vars)
     try:
         for node in sandbox:
@@ -341,8 +312,8 @@ def _instantiate(em, rec, run, exprs):
 
 # ---------------------------------------------------------------- the recorder and the check
 
-def _make_recorder():
-    from .emit import Emitter
+def _make_recorder(Emitter):
+    """A recording emitter over the emitter class `Emitter` (handed in, not imported: emit imports this module)."""
 
     class Recorder(Emitter):
         def __init__(self, *args):
@@ -389,16 +360,14 @@ def _make_recorder():
     return Recorder
 
 
-class _LazyRecorder:
-    cls = None
-
-    def __call__(self, *args):
-        if self.cls is None:
-            self.cls = _make_recorder()
-        return self.cls(*args)
+_RECORDERS = {}         # emitter class -> its recording subclass
 
 
-_Recorder = _LazyRecorder()
+def _Recorder(base, *args):
+    cls = _RECORDERS.get(base)
+    if cls is None:
+        cls = _RECORDERS[base] = _make_recorder(base)
+    return cls(*args)
 
 
 _STATE = ("names", "files", "_required", "app_uniforms", "streams", "vars", "closure_nodes", "_closure_impls",

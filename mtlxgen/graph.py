@@ -666,8 +666,7 @@ class GraphBuilder:
                   structs=self.lib.structs, doc_path=self.doc.path, library=self.lib,
                   colorspace=self.doc.colorspace)
         if self.kept_runs:
-            from .emitcache import graph_runs
-            g.expansion_runs = graph_runs(nodes, self.kept_runs)
+            g.expansion_runs = expansion_runs(nodes, self.kept_runs)
         return g
 
     def _element_result(self, element):
@@ -792,6 +791,33 @@ class _Expansion:
             builder.nodes[ident] = GNode(ident, category, nodedef, made, dict(outputs), loc, dict(static))
             builder.order.append(ident)
         return {name: source(r) for name, r in self.outputs}
+
+
+class ExpansionRun:
+    """A kept expansion's nodes in one graph: graph.nodes[start:start + len(ids)]."""
+    __slots__ = ("template", "start", "ids", "inputs", "nodes")
+
+    def __init__(self, template, start, ids, inputs, nodes):
+        self.template, self.start, self.ids, self.inputs, self.nodes = template, start, ids, inputs, nodes
+
+    def __deepcopy__(self, memo):       # a view of the library's kept expansion (shared, as the library is)
+        return self
+
+
+def expansion_runs(nodes, kept_runs):
+    """{start index: ExpansionRun} of the kept expansions whose nodes all are in `nodes`, contiguous and in order
+    (emitcache.py reuses their emissions)."""
+    runs = {}
+    first = {ids[0]: (template, ids, inputs) for template, ids, inputs in kept_runs if ids}
+    for i, n in enumerate(nodes):
+        entry = first.get(n.id)
+        if entry is None:
+            continue
+        template, ids, inputs = entry
+        part = nodes[i:i + len(ids)]
+        if len(part) == len(ids) and all(p.id == ident for p, ident in zip(part, ids)):
+            runs[i] = ExpansionRun(template, i, ids, inputs, part)
+    return runs
 
 
 def build_graph(doc, library, element, rules, warnings=None):

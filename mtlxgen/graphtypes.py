@@ -126,6 +126,12 @@ def sha256(data):
     return sha256(data)
 
 
+def is_plain_name(e):
+    """Whether GLSL text `e` is one identifier (a variable or uniform, not a literal such as `true`): what needs no
+    copy into a variable of its own."""
+    return e.replace("_", "a").isalnum() and not e[0].isdigit() and e not in ("true", "false")
+
+
 def unique_identifier(stem, taken):
     """A GLSL identifier from `stem` not yet in `taken` (a counter appended where needed); adds it."""
     base = _IDENTIFIERS.get(stem) or glsl_identifier(stem)       # (glsl_identifier's look-up, inline)
