@@ -144,3 +144,15 @@ def test_corpus_documents_give_the_shaders_of_a_full_emission(path):
     if not HAVE_CORPUS:
         pytest.skip("corpus absent")
     _same(path)
+
+
+def test_the_check_compares_every_field_emission_changes():
+    """_check compares the emitter's state field by field (emitcache._STATE); a field added to the Emitter later must
+    join that list or this one of fields a run leaves as it found them (settings, the graph and its closure plan,
+    the context stack a run leaves balanced) or compares on its own (the writer's lines, current)."""
+    from mtlxgen import emit
+    s = pipeline.Session(os.path.join(ROOT, "examples", "quick_start.mtlx"))
+    em = emit.Emitter(s.graph(list(s.elements)[0]))
+    unchanged = {"graph", "closure_plan", "environment", "target", "max_lights", "compact", "_contexts",
+                 "writer", "body", "current"}
+    assert set(vars(em)) - set(emitcache._STATE) - unchanged == set()
