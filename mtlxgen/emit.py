@@ -643,7 +643,7 @@ class Emitter:
                 if node.id in vertex_ids:
                     vertex_emitter.emit_node(node)
             vertex_emitter.result = vertex_emitter.expr(disp)
-        runs = g.__dict__.get("expansion_runs") if vertex_emitter is None and type(self) is Emitter else None
+        runs = g.expansion_runs if vertex_emitter is None and type(self) is Emitter else None
         if runs:                    # kept expansions' nodes, from their kept emission where it can be (emitcache.py)
             from .emitcache import emit_run
             nodes_, i, n = g.nodes, 0, len(g.nodes)

@@ -183,26 +183,10 @@ def _record(em, run):
         else:
             sandbox_inputs[name] = replace(s, uniform=sentinel)
     sids = ["QZi%diZQ" % k for k in range(len(run.nodes))]
-    from .graphtypes import GNode, Source
-    sandbox = []
-    for k, ((category, nodedef, outputs, loc, static), refs) in enumerate(template.nodes):
-        made = {}
-        for name, r in refs:
-            kind = r[0]
-            if kind == "node":
-                s = r[2]
-                made[name] = Source(s.type, s.value, s.uniform, sids[r[1]], s.output, s.colorspace, s.unit,
-                                    s.unittype, s.loc)
-            elif kind == "input":
-                made[name] = sandbox_inputs[r[1]]
-            elif kind == "typed":
-                made[name] = replace(sandbox_inputs[r[1]], type=r[2])
-            else:
-                made[name] = r[1]
-        sandbox.append(GNode(sids[k], category, nodedef, made, dict(outputs), loc, dict(static)))
+    sandbox, _ = template.make(sids, sandbox_inputs)
     g = copy.copy(em.graph)
     g.nodes, g.uniforms = sandbox, {}
-    g.__dict__.pop("expansion_runs", None)
+    g.expansion_runs = {}
     r = _Recorder(type(em), g, em.environment, em.target.name, em.max_lights, em.compact)
     r.vars.update(fake_vars)
     try:

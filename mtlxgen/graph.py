@@ -763,7 +763,15 @@ class _Expansion:
         taken = builder.used_ids        # builder.new_id, inline (a replay is never recorded: expansion())
         ids = [unique_identifier(stem + s, taken) for s in self.stems]
         builder.kept_runs.append((self, ids, inputs))
+        made, outs = self.make(ids, inputs)
+        for node in made:
+            builder.nodes[node.id] = node
+            builder.order.append(node.id)
+        return outs
 
+    def make(self, ids, inputs):
+        """([GNode], {output: Source}): the expansion's nodes named `ids`, reading the outer inputs `inputs` (a
+        replay's; emitcache.py's over sentinel names)."""
         def source(ref):
             kind = ref[0]
             if kind == "node":
@@ -776,21 +784,21 @@ class _Expansion:
                 return replace(inputs[ref[1]], type=ref[2])
             return ref[1]
 
+        made = []
         for ident, ((category, nodedef, outputs, loc, static), refs) in zip(ids, self.nodes):
-            made = {}
+            node_inputs = {}
             for name, r in refs:            # source(r), inline: the most frequent first
                 kind = r[0]
                 if kind == "node":
                     s = r[2]
-                    made[name] = Source(s.type, s.value, s.uniform, ids[r[1]], s.output, s.colorspace, s.unit,
-                                        s.unittype, s.loc)
+                    node_inputs[name] = Source(s.type, s.value, s.uniform, ids[r[1]], s.output, s.colorspace, s.unit,
+                                               s.unittype, s.loc)
                 elif kind == "input":
-                    made[name] = inputs[r[1]]
+                    node_inputs[name] = inputs[r[1]]
                 else:
-                    made[name] = source(r)
-            builder.nodes[ident] = GNode(ident, category, nodedef, made, dict(outputs), loc, dict(static))
-            builder.order.append(ident)
-        return {name: source(r) for name, r in self.outputs}
+                    node_inputs[name] = source(r)
+            made.append(GNode(ident, category, nodedef, node_inputs, dict(outputs), loc, dict(static)))
+        return made, {name: source(r) for name, r in self.outputs}
 
 
 class ExpansionRun:
