@@ -189,7 +189,6 @@ _OPAQUE_CONTEXTS = ("reflection", "indirect")
 # the GLSL spelling of each built-in type that has one, closures aside (Emitter.glsl_type notes those): what
 # mxtypes.glsl_type gives whatever the document's structs (a built-in name is never a struct's)
 _SPELLING = {name: info.glsl for name, info in mxtypes.BUILTIN.items() if info.glsl and not info.closure}
-_CLOSURE_NAMES = frozenset(name for name, info in mxtypes.BUILTIN.items() if info.closure)
 
 
 def _at_most_zero(value):
@@ -280,7 +279,7 @@ class Emitter:
             return self.vars[(src.node, src.output)]
         if src.uniform:
             return src.uniform
-        if src.type in _CLOSURE_NAMES:
+        if src.type in mxtypes.CLOSURE_NAMES:
             self.uses_closures = True
             return mxtypes.closure_zero(src.type)
         try:
@@ -304,7 +303,7 @@ class Emitter:
         t = _SPELLING.get(mx_type)
         if t is not None:
             return t
-        if mx_type in _CLOSURE_NAMES:
+        if mx_type in mxtypes.CLOSURE_NAMES:
             self.uses_closures = True
         try:
             t = mxtypes.glsl_type(mx_type, self.graph.structs)
@@ -318,9 +317,6 @@ class Emitter:
         return t
 
     def fresh(self, stem):
-        return self._take(stem)
-
-    def _take(self, stem):
         """A variable's name from `stem` (each name the emission takes goes through here: emitcache.py records
         the stems)."""
         return unique_identifier(stem, self.names)
@@ -416,7 +412,7 @@ class Emitter:
             from .fold import static_condition
             cond = static_condition(cond)
             expr, cond = (zero, None) if cond is False else (expr, None if cond is True else cond)
-        var = self._take("%s_%s" % (node.id, src.output))
+        var = self.fresh("%s_%s" % (node.id, src.output))
         first = len(self.body)
         w = self.writer
         if cond is None:
@@ -499,7 +495,7 @@ class Emitter:
             if is_plain_name(e) or otype in ("filename", "string"):
                 self.vars[(node.id, oname)] = e     # pass-through: no copy
                 continue
-            var = self._take("%s_%s" % (node.id, oname))
+            var = self.fresh("%s_%s" % (node.id, oname))
             self.writer.line("%s %s = %s;" % (_SPELLING.get(otype) or self.glsl_type(otype), var, e))
             self.vars[(node.id, oname)] = var
         if impl.source is not None:
@@ -662,7 +658,7 @@ class Emitter:
                     self.emit_node(node)
         self.current = None
         out_expr = self.output_statement(g.result)
-        if any(not _CLOSURE_NAMES.isdisjoint(n.outputs.values()) for n in g.nodes if n.id in fragment_ids):
+        if any(not mxtypes.CLOSURE_NAMES.isdisjoint(n.outputs.values()) for n in g.nodes if n.id in fragment_ids):
             self.uses_closures = True          # shader-typed values need the closure structs
         if self.uses_closures:              # the closure types first, once (a library file may require them too)
             self.files = ["closures.glsl"] + [f for f in self.files if f != "closures.glsl"]

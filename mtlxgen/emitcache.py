@@ -40,6 +40,7 @@ import re
 
 from .graphtypes import is_plain_name, unique_identifier
 from .stagewriter import StageWriter
+from .template import CLOSURE_TYPES
 
 REUSE = os.environ.get("MTLXGEN_EMIT_REUSE", "1") != "0"
 CHECKS = 2              # uses of a recording emitted in full and compared (the first is the recording's own)
@@ -48,7 +49,6 @@ CHECKS = 2              # uses of a recording emitted in full and compared (the 
 # by a check (the recording did not give what the full emission gave)
 STATS = {"recorded": 0, "checked": 0, "reused": 0, "unkept": 0, "refused": 0}
 
-_CLOSURES = frozenset(("BSDF", "EDF", "VDF"))
 _SEP = "\x1f"           # joins the texts of one format string (never in emitted GLSL: checked when recording)
 _SENTINEL = re.compile(r"QZ([nieo])(\d+)\1ZQ")
 
@@ -151,10 +151,10 @@ def _record(em, run):
     from . import nodes as nodes_
     template = run.template
     for name, ref in template.outputs:
-        if ref[0] == "node" and ref[2].type in _CLOSURES:
+        if ref[0] == "node" and ref[2].type in CLOSURE_TYPES:
             return None
     for s in run.inputs.values():
-        if s.type in _CLOSURES:
+        if s.type in CLOSURE_TYPES:
             return None
     lib = em.graph.library
     for node in run.nodes:
@@ -304,7 +304,7 @@ def _make_recorder(Emitter):
             super().__init__(*args)
             self.stems, self.required_calls, self.invalid, self._depth = [], [], False, 0
 
-        def _take(self, stem):
+        def fresh(self, stem):
             self.stems.append(stem)
             return "QZn%dnZQ" % (len(self.stems) - 1)
 

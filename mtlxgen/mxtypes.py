@@ -60,11 +60,11 @@ class StructType:
     loc: object = None                            # the <typedef>'s diagnostics.Loc
 
 
-_CLOSURE_NAMES = frozenset(n for n, info in BUILTIN.items() if info.closure)
+CLOSURE_NAMES = frozenset(n for n, info in BUILTIN.items() if info.closure)
 
 
 def is_closure(type_name):
-    return type_name in _CLOSURE_NAMES
+    return type_name in CLOSURE_NAMES
 
 
 # Types MaterialX passes through where one is connected to the other (its validator calls it a mismatch, its
