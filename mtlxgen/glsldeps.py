@@ -501,28 +501,21 @@ def split_file(rel, text):
     return lf
 
 
-_INDEX = {}
-
-
 def _index(libs):
-    """name -> [items defining it] over LibFiles libs (cached split_file objects: kept per tuple of them)."""
-    key = tuple(id(lf) for lf in libs)
-    by_name = _INDEX.get(key)
-    if by_name is None or any(a is not b for a, b in zip(by_name[0], libs)):      # (an id reused: rebuilt)
-        if len(_INDEX) > 1024:
-            _INDEX.clear()
-        index = {}
-        for lf in libs:
-            for it in lf.items:
-                for n in it.names:
-                    index.setdefault(n, []).append(it)
-        by_name = _INDEX[key] = (list(libs), index)
-    return by_name[1]
+    """name -> [items defining it] over LibFiles libs."""
+    index = {}
+    for lf in libs:
+        for it in lf.items:
+            for n in it.names:
+                index.setdefault(n, []).append(it)
+    return index
 
 
-def reachable(libs, roots):
-    """The items of LibFiles libs reachable from the identifier set roots: {id(item)}."""
-    by_name = _index(libs)
+def reachable(libs, roots, by_name=None):
+    """The items of LibFiles libs reachable from the identifier set roots: {id(item)}. by_name: _index(libs), where
+    the caller keeps it (used_code)."""
+    if by_name is None:
+        by_name = _index(libs)
     keep, seen, todo = set(), set(), [n for n in roots if n in by_name]
     seen.update(todo)
     while todo:
@@ -538,7 +531,8 @@ def reachable(libs, roots):
 
 
 # used_code's results kept per process: files (the tuple of (rel, text), which determines the split files and
-# their index) -> (the names the files define, {the root identifiers among those names: [(rel, text)]}). What
+# their index) -> (the split files, their index, the names they define, {the root identifiers among those names:
+# [(rel, text)]}). What
 # the files paste depends on nothing else: the items reachable from the names they define that the roots use.
 _USED = {}
 _USED_MAX = 256          # sets of files (switches, documents' code aside, a few dozen): bounded, cleared when full
@@ -557,15 +551,16 @@ def used_code(files, roots):
         if len(_USED) >= _USED_MAX:
             _USED.clear()
         libs = [split_file(rel, text) for rel, text in files]
-        entry = _USED[key] = (libs, frozenset(_index(libs)), {})
-    libs, defined, done = entry
+        index = _index(libs)
+        entry = _USED[key] = (libs, index, frozenset(index), {})
+    libs, index, defined, done = entry
     names = set()
     for r in roots:
         names |= identifiers(r)
     names = frozenset(names & defined)
     out = done.get(names)
     if out is None:
-        keep = reachable(libs, names)
+        keep = reachable(libs, names, index)
         out = []
         for lf in libs:
             kept = [lf.item_text(it) for it in lf.items if id(it) in keep]
