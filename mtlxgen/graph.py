@@ -575,9 +575,7 @@ class GraphBuilder:
             stems = self.recording
         finally:
             self.recording = None
-        if len(kept) >= self.EXPANSIONS_MAX:
-            kept.clear()
-        kept[key] = None
+        kept[key] = None                    # (the key is there already, _SEEN: the dict does not grow)
         if not self.foreign and len(self.uniforms) == uniforms and len(self.warnings.items) == warnings:
             template = kept[key] = _Expansion.record(self, impl_graph, stem, stems, self.order[first:], inputs, outs)
             if template is not None:
