@@ -711,10 +711,7 @@ class Emitter:
         return Shader(g.element, vertex.text(decl), fragment, manifest, document_code=code)
 
     def manifest_uniform(self, u, decl=None):
-        value = u.value
-        if isinstance(value, tuple):
-            value = [list(v) if isinstance(v, tuple) else v for v in value]
-        entry = {"name": u.name, "type": self.uniform_type(u), "mtlx_type": u.type, "value": value}
+        entry = {"name": u.name, "type": self.uniform_type(u), "mtlx_type": u.type, "value": manifest_value(u.value)}
         if u.type in self.graph.structs:
             entry["members"] = [{"name": mn, "type": mxtypes.glsl_type(mt, self.graph.structs)}
                                 for mn, mt, _ in self.graph.structs[u.type].members]
@@ -735,6 +732,13 @@ class Emitter:
         if decl is not None and u.name in decl.bindings:
             entry.update(set=targets.BLOCK_SET, binding=decl.bindings[u.name])
         return entry
+
+
+def manifest_value(value):
+    """A uniform's value as the manifest (JSON) holds it: tuples as lists."""
+    if isinstance(value, tuple):
+        return [list(v) if isinstance(v, tuple) else v for v in value]
+    return value
 
 
 # A vertex stage has no screen-space derivatives: there they read as zero, so a texture read through textureGrad

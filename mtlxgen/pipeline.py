@@ -74,6 +74,8 @@ class Session:
         self.rules = graph_rules(usd_seed_rules)     # what the target tells graph building
         if not self.elements:
             raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
+        from .elementcache import KeptElements
+        self.kept = KeptElements(self)      # materials built alike: generated once, instantiated after
 
     def graph(self, name):
         if self.stage is not None and name in self.stage.materials and self.stage.materials[name].problems:
@@ -96,7 +98,13 @@ class Session:
 
     def shader(self, name, interface=None, graph=None):
         """Element `name`'s Shader, with the session's interface or `interface` (a reduce.Interface), from its graph
-        or `graph` (this session's graph(name), already built: not built again)."""
+        or `graph` (this session's graph(name), already built: not built again). An element of the session's
+        interface built alike with others before may be instantiated from their template (elementcache.py)."""
+        if graph is None and interface is None:
+            return self.kept.shader(name, self._shader)
+        return self._shader(name, interface, graph)
+
+    def _shader(self, name, interface=None, graph=None):
         iface = interface or self.interface
         g, kept = graph if graph is not None else self.graph(name), None
         if iface.reduced:          # reduce.py: constants in the code, then fold.py computes them
@@ -105,7 +113,11 @@ class Session:
             g = fold.fold(g)
         shader = glslcheck.check(emit.emit(g, environment=self.environment, target=self.target,
                                            max_lights=self.max_lights, compact=iface.reduced))
-        shader.manifest["interface"] = iface.kind
+        return self.finish(name, shader, iface, kept)
+
+    def finish(self, name, shader, interface=None, kept=None):
+        """`shader` with what the session adds to an element's manifest."""
+        shader.manifest["interface"] = (interface or self.interface).kind
         if kept is not None:
             shader.manifest["kept"] = kept
         if self.stage is not None and name in self.stage.materials:

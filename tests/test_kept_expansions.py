@@ -7,7 +7,7 @@ import os
 import pytest
 
 from conftest import DATA_EXAMPLES, EXAMPLES, HAVE_CORPUS, ROOT, TESTSUITE
-from mtlxgen import library, pipeline
+from mtlxgen import elementcache, library, pipeline
 from mtlxgen.diagnostics import MtlxError
 from mtlxgen.graph import _Expansion
 from mtlxgen.graphtypes import GNode
@@ -83,6 +83,7 @@ def test_shaders_with_kept_expansions_are_those_of_full_walks(tmp_path, monkeypa
     sessions where nothing is kept (reduced too: its folding reads the literals the replay copied)."""
     path = tmp_path / "materials.mtlx"
     path.write_text(MATERIALS)
+    monkeypatch.setattr(elementcache, "REUSE", False)      # (every element walked: none instantiated)
     for interface in ("complete", "reduced"):
         library.load_library().expansions.clear()
         # each element three times in one run: its expansions met, recorded, then replayed

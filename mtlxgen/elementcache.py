@@ -1,0 +1,384 @@
+"""Kept elements (issue 14): a document's materials of one structure generated once, the others instantiated.
+
+A material library holds hundreds of materials built alike: a standard_surface with values of its own, the same
+small nodegraph under another name. Two top-level nodes of one document whose elements (the node, the nodes it
+reads, the nodegraphs they read, whole) are the same up to the elements' names and the values of float, colour
+and vector inputs make shaders that differ only in those names and values, in the complete interface: there such
+a value is a public uniform's initial value, written as it is read, and nothing is chosen from it.
+
+Per Session (one document, one library, one set of settings) and structure key (`structure`):
+  first met:   generated in full (the key noted);
+  second:      generated in full, then once more over a sentinel copy of its elements (`_record`): every name
+               replaced by QX<k>XQ (a plain GLSL identifier, as the real names are, so every test on a name goes
+               the same way), every such value by an mxtypes.Hole (written by glsl_literal as a placeholder,
+               refusing any other use). The copy holds only these elements: what building reads besides them
+               is not there, and fails. Its shader, each name and placeholder made a field, is the Template;
+               instantiated with this element's names and values it must give this element's shader exactly;
+  third:       generated in full, compared with the instance again (CHECKS uses in all);
+  then:        instantiated (`Template.make`), the placeholders written by glsl_literal from the element's own
+               values, the manifest's from emit.manifest_value.
+A key is refused (generated in full from then on) where the sentinel run fails, warns, reads a Hole (Hole.refused:
+counted even where the reader caught the error), or leaves a placeholder where it cannot be replaced, or where a
+comparison differs. An instance is generated in full instead where a name is not a plain identifier (what
+glsl_identifier keeps as it is, whatever follows it: no leading or trailing '_', not gl, u or i, a file stem as it
+is), or where the names substituted would make two identifiers one, an identifier the template holds fixed (any
+name taken while building or emitting it, any identifier of its text) or one longer than glsl_identifier keeps
+whole: what unique_identifier would have resolved differently from the sentinel run.
+Not kept: the reduced interface (values become code), a USD stage, a document with definitions of its own (the
+library overlaid), top-level <input>s, elements other than top-level nodes. REUSE (MTLXGEN_ELEMENT_REUSE=0 in the
+environment) turns it off.
+"""
+import json
+import operator
+import os
+import re
+from dataclasses import fields, replace
+
+from . import document, emit, graph, mxtypes
+from .graphtypes import IDENTIFIER_CHARS, glsl_identifier
+
+REUSE = os.environ.get("MTLXGEN_ELEMENT_REUSE", "1") != "0"
+CHECKS = 2              # uses of a template compared with a full generation (the recording's own is the first)
+KEYS_MAX = 4096         # structures kept per session
+
+# per process (tests read them): templates recorded, compared, instantiated; keys refused; instances generated
+# in full for their names
+STATS = {"recorded": 0, "checked": 0, "reused": 0, "refused": 0, "names": 0}
+
+# a node's XML attributes generation never reads: its name (numbered) and where an editor drew it
+UNREAD_ATTRS = frozenset(("name", "xpos", "ypos"))
+HOLE_TYPES = frozenset(("float", "color3", "color4", "vector2", "vector3", "vector4"))
+
+# the fields of the document's classes the key holds as they are; names and references are numbered, a hole's
+# value and text are left out (test_element_cache checks every field is one or the other)
+PORT_FIELDS = tuple(f.name for f in fields(document.Port) if f.name not in ("loc", "value", "text", "nodename",
+                                                                           "nodegraph"))
+NODE_FIELDS = ("category", "type", "nodedef", "version")            # + name, loc, inputs, outputs, tokens, attrs
+GRAPH_FIELDS = ("nodedef", "version")                   # + name, loc, inputs, outputs, tokens, nodes
+
+_SENTINEL = "QX%dXQ"
+_FIELD = re.compile(r'QX(\d+)XQ|\x1e(\d+):(\w+)\x1e|"\\u001d(\d+)\\u001d"')
+_SENTINELS = re.compile(r"QX(\d+)XQ")
+_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_SEP = "\x1f"
+_REFUSED = object()
+
+
+class Structure:
+    """An element's document elements, numbered: key (hashable; None where the element is not kept), the real
+    names by number, the hole ports by number (their values are the element's)."""
+    __slots__ = ("key", "names", "holes", "elements")
+
+    def __init__(self):
+        self.key, self.names, self.holes, self.elements = None, [], [], []
+
+
+def _plain(name):
+    return (glsl_identifier(name) == name and name[0] != "_" and name[-1] != "_" and name not in ("gl", "u", "i")
+            and emit.file_stem(name) == name)
+
+
+def _hole(port):
+    return (port.type in HOLE_TYPES and port.value is not None and not port.connected and port.error is None
+            and port.warning is None)
+
+
+def structure(doc, element):
+    """The Structure of a top-level node `element` of `doc` (its key None where it is not kept)."""
+    st = Structure()
+    node = doc.nodes.get(element)
+    if node is None or doc.inputs:
+        return st
+    number = {}                         # ("node" | "graph", name) or (graph name, inner node name) -> k
+    queue = []
+
+    def ref(scope, name):
+        k = number.get((scope, name))
+        if k is None:
+            if scope == "node":
+                found = doc.nodes.get(name)
+            elif scope == "graph":
+                found = doc.nodegraphs.get(name)
+            else:
+                found = doc.nodegraphs[scope].nodes.get(name)
+            if found is None or not _plain(name):
+                raise LookupError(name)
+            k = number[(scope, name)] = len(st.names)
+            st.names.append(name)
+            st.elements.append((scope, found))
+            if scope != "node" and scope != "graph":
+                return k
+            queue.append(k)
+            if scope == "graph":        # a nodegraph whole: its nodes numbered in order
+                for inner in found.nodes:
+                    ref(name, inner)
+        return k
+
+    def port(p, scope):
+        """(key part of port p, in scope "node" (top level) or a nodegraph's name)."""
+        if p.nodegraph and scope != "node":
+            raise LookupError(p.nodegraph)
+        n = ref(scope, p.nodename) if p.nodename else None
+        g = ref("graph", p.nodegraph) if p.nodegraph else None
+        if _hole(p):
+            st.holes.append(p)
+            value = ("hole",)
+        else:
+            value = (p.value, p.text)
+        return (n, g, value) + tuple(getattr(p, f) for f in PORT_FIELDS)
+
+    def ports(table, scope):
+        return tuple(port(p, scope) for p in table.values())
+
+    def node_part(n, scope):
+        return (tuple(getattr(n, f) for f in NODE_FIELDS), ports(n.inputs, scope), ports(n.outputs, scope),
+                ports(n.tokens, scope), tuple(item for item in n.attrs.items() if item[0] not in UNREAD_ATTRS))
+
+    try:
+        ref("node", element)
+        parts = []
+        i = 0
+        while i < len(queue):
+            k = queue[i]
+            i += 1
+            scope, el = st.elements[k]
+            if scope == "node":
+                parts.append((k, node_part(el, "node")))
+                continue
+            gname = st.names[k]
+            inner = tuple((number[(gname, name)], node_part(n, gname)) for name, n in el.nodes.items())
+            parts.append((k, tuple(getattr(el, f) for f in GRAPH_FIELDS), ports(el.inputs, "node"),
+                          ports(el.outputs, gname), ports(el.tokens, gname), inner))
+        key = tuple(parts)
+        hash(key)
+    except (LookupError, TypeError):    # a name not kept, an element not there, a value that is a list
+        return st
+    st.key = key
+    return st
+
+
+def _sentinel_doc(doc, st):
+    """A copy of `doc` holding only the Structure's elements, renamed QX<k>XQ, its hole values mxtypes.Holes."""
+    holes = {id(p): i for i, p in enumerate(st.holes)}
+    number = {}
+    for k, (scope, el) in enumerate(st.elements):
+        number[(scope, st.names[k])] = _SENTINEL % k
+
+    def port(p, scope):
+        changes = {}
+        if p.nodename:
+            changes["nodename"] = number[(scope, p.nodename)]
+        if p.nodegraph:
+            changes["nodegraph"] = number[("graph", p.nodegraph)]
+        i = holes.get(id(p))
+        if i is not None:
+            changes["value"] = changes["text"] = mxtypes.Hole(i)
+        return replace(p, **changes) if changes else p
+
+    def node(n, scope, name):
+        return replace(n, name=name, attrs=dict(n.attrs, name=name), inputs={k: port(p, scope) for k, p in n.inputs.items()},
+                       outputs={k: port(p, scope) for k, p in n.outputs.items()},
+                       tokens={k: port(p, scope) for k, p in n.tokens.items()})
+
+    nodes, graphs = {}, {}
+    for k, (scope, el) in enumerate(st.elements):
+        name = _SENTINEL % k
+        if scope == "node":
+            nodes[name] = node(el, "node", name)
+        elif scope == "graph":
+            g = st.names[k]
+            graphs[name] = replace(
+                el, name=name, nodes={number[(g, n)]: node(inner, g, number[(g, n)]) for n, inner in el.nodes.items()},
+                inputs={k2: port(p, "node") for k2, p in el.inputs.items()},
+                outputs={k2: port(p, g) for k2, p in el.outputs.items()},
+                tokens={k2: port(p, g) for k2, p in el.tokens.items()})
+    return replace(doc, nodes=nodes, nodegraphs=graphs, outputs={}, inputs={}, order=list(nodes) + list(graphs))
+
+
+class _Pieces:
+    """A text with fields: fill(args) is the text with field i replaced by args[i] (a list join: 5x str.format's
+    speed on a shader's 600 fields)."""
+    __slots__ = ("parts", "get", "one")
+
+    def __init__(self, parts, fields):
+        self.parts, self.one = parts, len(fields) == 1
+        self.get = operator.itemgetter(*fields) if fields else None
+
+    def fill(self, args):
+        out = self.parts[:]
+        if self.get is not None:
+            out[1::2] = (self.get(args),) if self.one else self.get(args)
+        return "".join(out)
+
+
+class Template:
+    """A sentinel run's shader as one text with fields (vertex, fragment and the manifest's JSON, _SEP between them):
+    fields 0..n-1 the names, then one per (hole, GLSL type) the hole's GLSL literal (`literals`), then one per hole
+    the manifest's JSON of its value (`values`). `named`: the names taken while building and emitting that hold a
+    name, `fixed` the others: what the names substituted must not meet; `lengths`: (the length of an identifier
+    holding names without them, the names it holds), the longest per set of names."""
+
+    def __init__(self, shader, names, taken):
+        if shader.document_code:
+            raise ValueError("document code")
+        manifest = json.dumps(_json_holes(shader.manifest))
+        texts = (shader.vertex, shader.fragment, manifest)
+        if any(_SEP in t for t in texts):
+            raise ValueError("separator in text")
+        self.literals, self.values = [], []
+        literal_field, value_field, fields = {}, {}, []
+        for m in _FIELD.finditer(_SEP.join(texts)):
+            if m.group(1) is not None:
+                fields.append(("name", int(m.group(1))))
+            elif m.group(2) is not None:
+                spec = (int(m.group(2)), m.group(3))
+                fields.append(("literal", literal_field.setdefault(spec, len(literal_field))))
+                if len(self.literals) < len(literal_field):
+                    self.literals.append(spec)
+            else:
+                spec = int(m.group(4))
+                fields.append(("value", value_field.setdefault(spec, len(value_field))))
+                if len(self.values) < len(value_field):
+                    self.values.append(spec)
+        base = {"name": 0, "literal": names, "value": names + len(self.literals)}
+        if any(k >= names for kind, k in fields if kind == "name"):
+            raise ValueError("a name not numbered")
+        self.text = self._pieces(_SEP.join(texts), [base[kind] + k for kind, k in fields])
+        if any("\x1e" in p or "\\u001d" in p or "\\u001e" in p for p in self.text.parts):
+            raise ValueError("placeholder")         # a placeholder cut or glued: not kept
+        named = sorted(i for i in taken if "QX" in i and _SENTINELS.search(i))
+        self.fixed = frozenset(i for i in taken if not ("QX" in i and _SENTINELS.search(i)))
+        self.named = self._pieces(_SEP.join(named), [int(k) for i in named for k in _SENTINELS.findall(i)])
+        self.count = len(named)
+        idents = set(_IDENT.findall(shader.vertex)) | set(_IDENT.findall(shader.fragment)) | set(named)
+        lengths = {}
+        for i in idents:
+            ks = tuple(sorted(set(int(k) for k in _SENTINELS.findall(i))))
+            if ks:
+                if len(i) > IDENTIFIER_CHARS - 2:
+                    raise ValueError("long identifier")     # (a stem glsl_identifier might have cut: not kept)
+                rest = len(_SENTINELS.sub("", i))
+                lengths[ks] = max(lengths.get(ks, 0), rest)
+        self.lengths = [(rest, ks) for ks, rest in lengths.items()]
+        self.checks = 0
+
+    @staticmethod
+    def _pieces(text, fields):
+        parts = _FIELD.split(text) if fields else [text]
+        # re.split gives each match's 4 groups: one piece per field instead
+        pieces = parts[0::5]
+        out = [pieces[0]]
+        for p in pieces[1:]:
+            out += ["", p]
+        return _Pieces(out, fields)
+
+    def make(self, element, st):
+        """The Shader of `element` (Structure st, this template's key), or None where its names would not be
+        taken as the sentinel run took them, or a value has no GLSL literal."""
+        names = st.names
+        if self.count:
+            named = self.named.fill(names).split(_SEP)
+            if len(set(named)) != self.count or not self.fixed.isdisjoint(named):
+                return None
+        sizes = [len(n) for n in names]
+        if any(rest + sum(sizes[k] for k in ks) > IDENTIFIER_CHARS for rest, ks in self.lengths):
+            return None
+        values = [p.value for p in st.holes]
+        try:
+            args = (names + [mxtypes.glsl_literal(t, values[k]) for k, t in self.literals]
+                    + [json.dumps(emit.manifest_value(values[k])) for k in self.values])
+        except (mxtypes.ValueError_, ValueError, TypeError):    # (a full generation says which input)
+            return None
+        vertex, fragment, manifest = self.text.fill(args).split(_SEP)
+        return emit.Shader(element, vertex, fragment, json.loads(manifest))
+
+
+def _json_holes(value):
+    """The manifest with each Hole as a string the JSON text holds as "\\u001d<index>\\u001d"."""
+    if isinstance(value, dict):
+        return {k: _json_holes(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_json_holes(v) for v in value]
+    if value.__class__ is mxtypes.Hole:
+        return "\x1d%d\x1d" % value.index
+    if isinstance(value, str) and "\x1d" in value:
+        raise ValueError("placeholder")
+    if isinstance(value, (float, int, str, bool)) or value is None:
+        return value
+    raise ValueError("a manifest value JSON would not give back: %s" % type(value).__name__)
+
+
+def _record(session, element, st):
+    """The Template of element `element`'s structure, from a sentinel run; None where it cannot be kept."""
+    sdoc = _sentinel_doc(session.doc, st)
+    refused = mxtypes.Hole.refused
+    try:
+        builder = graph.GraphBuilder(sdoc, session.library, session.rules)
+        g = builder.build(_SENTINEL % 0)
+        if builder.warnings.items:
+            return None
+        em = emit.Emitter(g, session.environment, session.target, session.max_lights, False)
+        shader = em.emit()
+        if mxtypes.Hole.refused != refused:
+            return None
+        return Template(shader, len(st.names), builder.used_ids | em.names)
+    except Exception:                   # anything the sentinel run cannot do: the key is generated in full
+        return None
+
+
+class KeptElements:
+    """A Session's kept structures: shader(name, full) is full(name) or an instance of a checked template."""
+
+    def __init__(self, session):
+        lib = session.library
+        self.on = (REUSE and session.stage is None and getattr(lib, "overlaid", None) is None
+                   and not session.doc.inputs and not session.interface.reduced
+                   and len(session.elements) > CHECKS + 1)         # (fewer: none would be instantiated)
+        self.session = session
+        self.kept = {}                  # key -> times met (1), a Template (with .checks), or _REFUSED
+
+    def shader(self, name, full):
+        if not self.on:
+            return full(name)
+        st = structure(self.session.doc, name)
+        key = st.key
+        if key is None:
+            return full(name)
+        entry = self.kept.get(key)
+        if entry is None:
+            if len(self.kept) >= KEYS_MAX:
+                self.kept.clear()
+            self.kept[key] = 1
+            return full(name)
+        if entry is _REFUSED:
+            return full(name)
+        if entry.__class__ is int:
+            shader = full(name)
+            template = _record(self.session, name, st)
+            if template is None:
+                self.kept[key] = _REFUSED
+                STATS["refused"] += 1
+                return shader
+            STATS["recorded"] += 1
+            self.kept[key] = entry = template
+            return self._check(entry, key, name, st, shader)
+        if entry.checks < CHECKS:
+            return self._check(entry, key, name, st, full(name))
+        made = entry.make(name, st)
+        if made is None:
+            STATS["names"] += 1
+            return full(name)
+        STATS["reused"] += 1
+        return self.session.finish(name, made)
+
+    def _check(self, template, key, name, st, shader):
+        made = template.make(name, st)
+        if made is not None:
+            made = self.session.finish(name, made)
+            if made != shader:
+                self.kept[key] = _REFUSED
+                STATS["refused"] += 1
+                return shader
+            template.checks += 1
+            STATS["checked"] += 1
+        return shader
