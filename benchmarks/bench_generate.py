@@ -5,7 +5,9 @@ usage: bench_generate.py [FILE.mtlx ...] [--repeat N] [--materials N] [--no-big]
 
 Default files: every document of Materials/Examples in ../shared/corpus/materialx (or $MTLXGEN_CORPUS; of
 tests/data/materialx where neither is there), then a generated document of --materials materials (1,000:
-standard_surface, open_pbr_surface and gltf_pbr, a third of them fed by a small nodegraph).
+standard_surface, open_pbr_surface and gltf_pbr, a third of them fed by a small nodegraph), once as generate runs
+(its materials of one structure instantiated from a checked template after the third: elementcache.py) and once
+with kept elements off.
 
 Per document, like against like, both warm (libraries loaded, first run not timed):
   mtlxgen    pipeline.generate(FILE, ELEMENTS): read, upgrade, the library overlaid with the document's own
@@ -29,7 +31,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from mtlxgen import library, pipeline  # noqa: E402
+from mtlxgen import elementcache, library, pipeline  # noqa: E402
 from mtlxgen.diagnostics import MtlxError  # noqa: E402
 
 CORPUS = os.environ.get("MTLXGEN_CORPUS") or os.path.join(ROOT, "..", "shared", "corpus", "materialx")
@@ -232,6 +234,14 @@ def main():
                 print("materials_%d: skipped %s" % (args.materials, s))
             if elements:
                 row("%d-material document" % args.materials, len(elements), a, b)
+                # the same without kept elements (each material built and emitted: what a document of as many
+                # different structures costs per material)
+                elementcache.REUSE = False
+                try:
+                    elements, a, b, _ = measure(mx, path, 1)
+                finally:
+                    elementcache.REUSE = True
+                row("%d-material, kept elements off" % args.materials, len(elements), a, b)
 
 
 if __name__ == "__main__":
