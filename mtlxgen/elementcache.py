@@ -89,7 +89,7 @@ def structure(doc, element):
     node = doc.nodes.get(element)
     if node is None or doc.inputs:
         return st
-    number = {}                         # ("node" | "graph", name) or (graph name, inner node name) -> k
+    number = {}                         # (scope, name) -> k; scope "node", "graph" or ("in", graph name)
     queue = []
 
     def ref(scope, name):
@@ -100,7 +100,7 @@ def structure(doc, element):
             elif scope == "graph":
                 found = doc.nodegraphs.get(name)
             else:
-                found = doc.nodegraphs[scope].nodes.get(name)
+                found = doc.nodegraphs[scope[1]].nodes.get(name)
             if found is None or not _plain(name):
                 raise LookupError(name)
             k = number[(scope, name)] = len(st.names)
@@ -111,11 +111,11 @@ def structure(doc, element):
             queue.append(k)
             if scope == "graph":        # a nodegraph whole: its nodes numbered in order
                 for inner in found.nodes:
-                    ref(name, inner)
+                    ref(("in", name), inner)
         return k
 
     def port(p, scope):
-        """(key part of port p, in scope "node" (top level) or a nodegraph's name)."""
+        """(key part of port p, in scope "node" (top level) or ("in", a nodegraph's name))."""
         if p.nodegraph and scope != "node":
             raise LookupError(p.nodegraph)
         n = ref(scope, p.nodename) if p.nodename else None
@@ -145,7 +145,7 @@ def structure(doc, element):
             if scope == "node":
                 parts.append((k, node_part(el, "node")))
                 continue
-            gname = st.names[k]
+            gname = ("in", st.names[k])
             inner = tuple((number[(gname, name)], node_part(n, gname)) for name, n in el.nodes.items())
             parts.append((k, tuple(getattr(el, f) for f in GRAPH_FIELDS), ports(el.inputs, "node"),
                           ports(el.outputs, gname), ports(el.tokens, gname), inner))
@@ -186,7 +186,7 @@ def _sentinel_doc(doc, st):
         if scope == "node":
             nodes[name] = node(el, "node", name)
         elif scope == "graph":
-            g = st.names[k]
+            g = ("in", st.names[k])
             graphs[name] = replace(
                 el, name=name, nodes={number[(g, n)]: node(inner, g, number[(g, n)]) for n, inner in el.nodes.items()},
                 inputs={k2: port(p, "node") for k2, p in el.inputs.items()},

@@ -272,6 +272,30 @@ def test_the_key_is_the_structure_up_to_names_float_values_and_layout(tmp_path):
     assert elementcache.structure(doc, "nothing").key is None
 
 
+def test_names_alike_in_different_scopes_are_different_elements(tmp_path):
+    """A nodegraph named like a scope ('node', 'graph') whose inner node is named like a top-level node: each is
+    numbered as its own element (the inner one read where the graph reads it), and the shaders are a full
+    generation's."""
+    lines = ['<?xml version="1.0"?>', '<materialx version="1.39">']
+    for i in range(6):
+        g, c = ("node", "graph")[i] if i < 2 else "g%d" % i, "c%d" % i
+        lines.append('<nodegraph name="%s"><constant name="%s" type="color3"><input name="value" type="color3" '
+                     'value="0.%d, 0.2, 0.3" /></constant><output name="out" type="color3" nodename="%s" /></nodegraph>'
+                     % (g, c, i, c))
+        lines.append('<standard_surface name="%s" type="surfaceshader"><input name="base_color" type="color3" '
+                     'nodegraph="%s" output="out" /><input name="base" type="float" value="0.%d" /></standard_surface>'
+                     % (c, g, i))
+        lines.append('<surfacematerial name="M%d" type="material"><input name="surfaceshader" type="surfaceshader" '
+                     'nodename="%s" /></surfacematerial>' % (i, c))
+    path = str(tmp_path / "scopes.mtlx")
+    with open(path, "w") as f:
+        f.write("\n".join(lines + ["</materialx>"]) + "\n")
+    st = elementcache.structure(pipeline.Session(path).doc, "M0")
+    assert st.names == ["M0", "c0", "node", "c0"] and st.key is not None
+    grown = _same(path)
+    assert grown["reused"] == 3, grown
+
+
 @pytest.mark.parametrize("path", DOCUMENTS, ids=lambda p: os.path.relpath(p, ROOT))
 def test_documents_give_the_shaders_of_a_full_generation(path):
     _same(path)
