@@ -296,6 +296,29 @@ def test_names_alike_in_different_scopes_are_different_elements(tmp_path):
     assert grown["reused"] == 3, grown
 
 
+def test_names_that_meet_inside_one_shader_are_generated_in_full(tmp_path):
+    """A material whose nodegraph's inner node is named like one of its standard_surface's expanded nodes
+    ('s4_coat_gamma' beside s4's 'coat_gamma'): a fresh generation gives one of the two another name, the template
+    (made where they were two names) would not, so that material is generated in full, the others instantiated."""
+    lines = ['<?xml version="1.0"?>', '<materialx version="1.39">']
+    for i in range(7):
+        inner = "s%d_coat_gamma" % i if i in (4, 6) else "c%d" % i
+        lines.append('<nodegraph name="g%d"><constant name="%s" type="color3"><input name="value" type="color3" '
+                     'value="0.%d, 0.2, 0.3" /></constant><output name="out" type="color3" nodename="%s" /></nodegraph>'
+                     % (i, inner, i, inner))
+        lines.append('<standard_surface name="s%d" type="surfaceshader"><input name="base_color" type="color3" '
+                     'nodegraph="g%d" output="out" /></standard_surface>' % (i, i))
+        lines.append('<surfacematerial name="M%d" type="material"><input name="surfaceshader" type="surfaceshader" '
+                     'nodename="s%d" /></surfacematerial>' % (i, i))
+    path = str(tmp_path / "meet.mtlx")
+    with open(path, "w") as f:
+        f.write("\n".join(lines + ["</materialx>"]) + "\n")
+    grown = _same(path)
+    assert grown["names"] == 2 and grown["reused"] == 2, grown
+    fresh = pipeline.generate(path)[4].fragment
+    assert "s4_coat_gamma2" in fresh or "s4_coat_gamma_out2" in fresh
+
+
 @pytest.mark.parametrize("path", DOCUMENTS, ids=lambda p: os.path.relpath(p, ROOT))
 def test_documents_give_the_shaders_of_a_full_generation(path):
     _same(path)
@@ -307,3 +330,85 @@ def test_corpus_documents_give_the_shaders_of_a_full_generation(path):
     if not HAVE_CORPUS:
         pytest.skip("corpus absent")
     _same(path)
+
+
+hypothesis = pytest.importorskip("hypothesis", reason="hypothesis is a test dependency (pip install -e '.[test]')")
+from hypothesis import HealthCheck, given, seed, settings, strategies as st  # noqa: E402
+
+FUZZ_EXAMPLES = int(os.environ.get("MTLXGEN_FUZZ_EXAMPLES", "25"))
+FUZZ_SEED = os.environ.get("MTLXGEN_FUZZ_SEED")
+FLOATS = st.one_of(st.sampled_from([0.0, -0.0, 1.0, 0.5, -2.0]),
+                   st.floats(allow_nan=False, allow_infinity=False, width=32))
+
+# (XML of a structure's shader node {n}, with {v0} {v1} {v2} float values and {g} its own nodegraph's name, or None)
+STRUCTURES = [
+    ('<standard_surface name="{n}" type="surfaceshader"><input name="base_color" type="color3" value="{v0}, {v1}, '
+     '{v2}" /><input name="specular_roughness" type="float" value="{v1}" /></standard_surface>', None),
+    ('<standard_surface name="{n}" type="surfaceshader"><input name="base_color" type="color3" value="{v0}, {v1}, '
+     '{v2}" colorspace="srgb_texture" /><input name="thin_walled" type="boolean" value="true" /></standard_surface>',
+     None),
+    ('<gltf_pbr name="{n}" type="surfaceshader"><input name="base_color" type="color3" nodegraph="{g}" output="out" />'
+     '<input name="roughness" type="float" value="{v2}" /></gltf_pbr>',
+     '<nodegraph name="{g}"><input name="tint" type="color3" value="{v1}, {v0}, {v2}" /><position name="{i}p" '
+     'type="vector3" /><multiply name="{i}m" type="color3"><input name="in1" type="color3" interfacename="tint" />'
+     '<input name="in2" type="float" value="{v0}" /></multiply><output name="out" type="color3" nodename="{i}m" />'
+     '</nodegraph>'),
+    ('<open_pbr_surface name="{n}" type="surfaceshader" xpos="{v0}"><input name="base_weight" type="float" '
+     'value="{v2}" /></open_pbr_surface>', None),
+]
+
+
+@st.composite
+def documents(draw):
+    """1-2 structures, each met 4-7 times under names drawn from NAMES (made unique), values drawn from FLOATS."""
+    lines = ['<?xml version="1.0"?>', '<materialx version="1.39" colorspace="lin_rec709">']
+    used = set()
+
+    def unique(base):
+        name, k = base, 0
+        while name in used:
+            k += 1
+            name = "%s%s" % (base, draw(st.sampled_from(["1", "a", "_b", "2"])))
+            base = name if k > 3 else base
+        used.add(name)
+        return name
+
+    for index in draw(st.lists(st.integers(0, len(STRUCTURES) - 1), min_size=1, max_size=2)):
+        shader, graph = STRUCTURES[index]
+        for _ in range(draw(st.integers(4, 7))):
+            n = unique(draw(st.sampled_from(NAMES)))
+            values = {"v%d" % j: repr(float(draw(FLOATS))) for j in range(3)}
+            g = unique(draw(st.sampled_from(["g", "node", "graph", "NG"]))) if graph else None
+            if graph:
+                lines.append(graph.format(g=g, i=draw(st.sampled_from(["", "a", "mg_", "u"])), **values))
+            lines.append(shader.format(n=n, g=g, **values))
+            lines.append('<surfacematerial name="%s" type="material"><input name="surfaceshader" type="surfaceshader" '
+                         'nodename="%s" /></surfacematerial>' % (unique("M" + n), n))
+    lines.append("</materialx>")
+    return "\n".join(lines) + "\n"
+
+
+def _fuzz_settings(fn):
+    s = settings(max_examples=FUZZ_EXAMPLES, deadline=None, derandomize=FUZZ_SEED is None,
+                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture,
+                                        HealthCheck.data_too_large])(fn)
+    return seed(int(FUZZ_SEED))(s) if FUZZ_SEED is not None else s
+
+
+REUSED = []
+
+
+@_fuzz_settings
+@given(text=documents())
+def test_generated_documents_give_the_shaders_of_a_full_generation(tmp_path_factory, text):
+    path = str(tmp_path_factory.mktemp("elements") / "doc.mtlx")
+    with open(path, "w") as f:
+        f.write(text)
+    REUSED.append(_same(path)["reused"])
+
+
+def test_the_generated_documents_were_instantiated():
+    """(after the property test: its documents must have had materials instantiated, or it tested nothing)"""
+    if not REUSED:
+        pytest.skip("the property test did not run")
+    assert sum(REUSED) >= FUZZ_EXAMPLES, REUSED
