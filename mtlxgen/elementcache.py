@@ -225,25 +225,20 @@ class Template:
         texts = (shader.vertex, shader.fragment, manifest)
         if any(_SEP in t for t in texts):
             raise ValueError("separator in text")
-        self.literals, self.values = [], []
-        literal_field, value_field, fields = {}, {}, []
-        for m in _FIELD.finditer(_SEP.join(texts)):
+        literals, values, fields = {}, {}, []      # (hole, GLSL type) / hole -> its number among its kind
+        text = _SEP.join(texts)
+        for m in _FIELD.finditer(text):
             if m.group(1) is not None:
                 fields.append(("name", int(m.group(1))))
             elif m.group(2) is not None:
-                spec = (int(m.group(2)), m.group(3))
-                fields.append(("literal", literal_field.setdefault(spec, len(literal_field))))
-                if len(self.literals) < len(literal_field):
-                    self.literals.append(spec)
+                fields.append(("literal", literals.setdefault((int(m.group(2)), m.group(3)), len(literals))))
             else:
-                spec = int(m.group(4))
-                fields.append(("value", value_field.setdefault(spec, len(value_field))))
-                if len(self.values) < len(value_field):
-                    self.values.append(spec)
-        base = {"name": 0, "literal": names, "value": names + len(self.literals)}
-        if any(k >= names for kind, k in fields if kind == "name"):
+                fields.append(("value", values.setdefault(int(m.group(4)), len(values))))
+        if any(kind == "name" and k >= names for kind, k in fields):
             raise ValueError("a name not numbered")
-        self.text = self._pieces(_SEP.join(texts), [base[kind] + k for kind, k in fields])
+        self.literals, self.values = list(literals), list(values)
+        first = {"name": 0, "literal": names, "value": names + len(literals)}
+        self.text = self._pieces(text, [first[kind] + k for kind, k in fields])
         if any("\x1e" in p or "\\u001d" in p or "\\u001e" in p for p in self.text.parts):
             raise ValueError("placeholder")         # a placeholder cut or glued: not kept
         named = sorted(i for i in taken if "QX" in i and _SENTINELS.search(i))
@@ -332,7 +327,7 @@ class KeptElements:
     def __init__(self, session):
         lib = session.library
         self.on = (REUSE and session.stage is None and getattr(lib, "overlaid", None) is None
-                   and not session.doc.inputs and not session.interface.reduced
+                   and not session.interface.reduced
                    and len(session.elements) > CHECKS + 1)         # (fewer: none would be instantiated)
         self.session = session
         self.kept = {}                  # key -> times met (1), a Template (with .checks), or _REFUSED
