@@ -19,11 +19,13 @@ Per Session (one document, one library, one set of settings) and structure key (
                values, the manifest's from emit.manifest_value.
 A key is refused (generated in full from then on) where the sentinel run fails, warns, reads a Hole (Hole.refused:
 counted even where the reader caught the error), or leaves a placeholder where it cannot be replaced, or where a
-comparison differs. An instance is generated in full instead where a name is not a plain identifier (what
-glsl_identifier keeps as it is, whatever follows it: no leading or trailing '_', not gl, u or i, a file stem as it
-is), or where the names substituted would make two identifiers one, an identifier the template holds fixed (any
-name taken while building or emitting it, any identifier of its text) or one longer than glsl_identifier keeps
-whole: what unique_identifier would have resolved differently from the sentinel run.
+comparison differs. Nothing is recorded for a structure fewer than CHECKS + 2 of the session's elements have (no
+material of it would be instantiated). An element is not kept where its name is not a file stem as it is, nor
+where any of its names is not a plain identifier (what glsl_identifier keeps as it is whatever follows it: no
+leading or trailing '_', not gl, u or i). An instance is generated in full where the names substituted would make
+two names taken while building or emitting one, meet a name the template's run took that holds no name of the
+structure, or make an identifier longer than glsl_identifier keeps whole: what unique_identifier would have
+resolved otherwise than in the sentinel run.
 Not kept: the reduced interface (values become code), a USD stage, a document with definitions of its own (the
 library overlaid), top-level <input>s, elements other than top-level nodes. REUSE (MTLXGEN_ELEMENT_REUSE=0 in the
 environment) turns it off.
@@ -55,6 +57,7 @@ PORT_FIELDS = tuple(f.name for f in fields(document.Port) if f.name not in ("loc
                                                                            "nodegraph"))
 NODE_FIELDS = ("category", "type", "nodedef", "version")            # + name, loc, inputs, outputs, tokens, attrs
 GRAPH_FIELDS = ("nodedef", "version")                   # + name, loc, inputs, outputs, tokens, nodes
+_PORT_FIELDS, _NODE_FIELDS = operator.attrgetter(*PORT_FIELDS), operator.attrgetter(*NODE_FIELDS)
 
 _SENTINEL = "QX%dXQ"
 _FIELD = re.compile(r'QX(\d+)XQ|\x1e(\d+):(\w+)\x1e|"\\u001d(\d+)\\u001d"')
@@ -74,8 +77,7 @@ class Structure:
 
 
 def _plain(name):
-    return (glsl_identifier(name) == name and name[0] != "_" and name[-1] != "_" and name not in ("gl", "u", "i")
-            and emit.file_stem(name) == name)
+    return glsl_identifier(name) == name and name[0] != "_" and name[-1] != "_" and name not in ("gl", "u", "i")
 
 
 def _hole(port):
@@ -87,7 +89,7 @@ def structure(doc, element):
     """The Structure of a top-level node `element` of `doc` (its key None where it is not kept)."""
     st = Structure()
     node = doc.nodes.get(element)
-    if node is None or doc.inputs:
+    if node is None or doc.inputs or emit.file_stem(element) != element:     # (the files' names: the element's)
         return st
     number = {}                         # (scope, name) -> k; scope "node", "graph" or ("in", graph name)
     queue = []
@@ -125,13 +127,13 @@ def structure(doc, element):
             value = ("hole",)
         else:
             value = (p.value, p.text)
-        return (n, g, value) + tuple(getattr(p, f) for f in PORT_FIELDS)
+        return (n, g, value) + _PORT_FIELDS(p)
 
     def ports(table, scope):
         return tuple(port(p, scope) for p in table.values())
 
     def node_part(n, scope):
-        return (tuple(getattr(n, f) for f in NODE_FIELDS), ports(n.inputs, scope), ports(n.outputs, scope),
+        return (_NODE_FIELDS(n), ports(n.inputs, scope), ports(n.outputs, scope),
                 ports(n.tokens, scope), tuple(item for item in n.attrs.items() if item[0] not in UNREAD_ATTRS))
 
     try:
@@ -322,22 +324,35 @@ def _record(session, element, st):
 
 
 class KeptElements:
-    """A Session's kept structures: shader(name, full) is full(name) or an instance of a checked template."""
+    """A Session's kept structures: shader(name, full) is full(name) or an instance of a checked template. Only a
+    structure the session's elements hold at least CHECKS + 2 times is recorded (one fewer: no material would be
+    instantiated, and the recording's sentinel run would be paid for nothing)."""
 
     def __init__(self, session):
         lib = session.library
         self.on = (REUSE and session.stage is None and getattr(lib, "overlaid", None) is None
-                   and not session.interface.reduced
-                   and len(session.elements) > CHECKS + 1)         # (fewer: none would be instantiated)
+                   and not session.interface.reduced and len(session.elements) >= CHECKS + 2)
         self.session = session
+        self.structures = None          # element name -> Structure, made on the first shader()
+        self.count = {}                 # key -> how many of the session's elements have it
         self.kept = {}                  # key -> times met (1), a Template (with .checks), or _REFUSED
+
+    def structure(self, name):
+        if self.structures is None:
+            doc = self.session.doc
+            self.structures = {e: structure(doc, e) for e in self.session.elements}
+            for st in self.structures.values():
+                if st.key is not None:
+                    self.count[st.key] = self.count.get(st.key, 0) + 1
+        st = self.structures.get(name)
+        return st if st is not None else structure(self.session.doc, name)
 
     def shader(self, name, full):
         if not self.on:
             return full(name)
-        st = structure(self.session.doc, name)
+        st = self.structure(name)
         key = st.key
-        if key is None:
+        if key is None or self.count.get(key, 0) < CHECKS + 2:
             return full(name)
         entry = self.kept.get(key)
         if entry is None:

@@ -75,7 +75,7 @@ class Session:
         if not self.elements:
             raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
         from .elementcache import KeptElements
-        self.kept = KeptElements(self)      # materials built alike: generated once, instantiated after
+        self.kept_elements = KeptElements(self)     # materials built alike: generated once, instantiated after
 
     def graph(self, name):
         if self.stage is not None and name in self.stage.materials and self.stage.materials[name].problems:
@@ -101,7 +101,7 @@ class Session:
         or `graph` (this session's graph(name), already built: not built again). An element of the session's
         interface built alike with others before may be instantiated from their template (elementcache.py)."""
         if graph is None and interface is None:
-            return self.kept.shader(name, self._shader)
+            return self.kept_elements.shader(name, self._shader)
         return self._shader(name, interface, graph)
 
     def _shader(self, name, interface=None, graph=None):

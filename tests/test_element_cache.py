@@ -133,6 +133,9 @@ def test_many_materials_give_the_shaders_of_a_full_generation(tmp_path):
     path = bench_generate.many_materials(str(tmp_path / "many.mtlx"), 60)
     grown = _same(path)
     assert grown["recorded"] == 3 and grown["checked"] == 6 and grown["reused"] == 60 - 9, grown
+    # three of each structure: none would be instantiated, so nothing is recorded (no sentinel run paid for)
+    path = bench_generate.many_materials(str(tmp_path / "nine.mtlx"), 9)
+    assert _same(path) == dict.fromkeys(elementcache.STATS, 0)
 
 
 def test_reduced_interface_and_a_graph_given_are_not_kept(tmp_path):
