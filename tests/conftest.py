@@ -37,6 +37,26 @@ def corpus_params(make, width=1):
     return [pytest.param(*values, id="corpus-absent", marks=pytest.mark.skip(reason=CORPUS_ABSENT))]
 
 
+def generate_switched(path, switches, **options):
+    """pipeline.generate(path, partial=True, **options) with module flags set for the call ({module: value}, e.g.
+    {emitcache: False} sets emitcache.REUSE), as comparable data: ([(element, stem, vertex, fragment, manifest)],
+    problem lines or None), or (None, lines) for a document that does not open."""
+    from mtlxgen import pipeline
+    from mtlxgen.diagnostics import MtlxError
+    saved = {m: m.REUSE for m in switches}
+    for m, value in switches.items():
+        m.REUSE = value
+    try:
+        shaders, error = pipeline.generate(path, partial=True, **options)
+    except MtlxError as e:              # (a document that does not open: the same either way)
+        return None, e.lines()
+    finally:
+        for m, value in saved.items():
+            m.REUSE = value
+    return [(s.element, s.stem, s.vertex, s.fragment, s.manifest) for s in shaders], \
+        (error.lines() if error is not None else None)
+
+
 def pytest_collection_modifyitems(config, items):
     """Tests marked `corpus` skip, saying why, where ../shared is absent."""
     if HAVE_CORPUS:

@@ -13,9 +13,8 @@ import sys
 
 import pytest
 
-from conftest import EXAMPLES, HAVE_CORPUS, ROOT, TESTSUITE
+from conftest import EXAMPLES, HAVE_CORPUS, ROOT, TESTSUITE, generate_switched
 from mtlxgen import document, elementcache, emit, mxtypes, pipeline
-from mtlxgen.diagnostics import MtlxError
 
 sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
 
@@ -97,16 +96,7 @@ def awkward_document(path, count=90, seed=7):
 
 
 def _generate(path, reuse, **options):
-    saved = elementcache.REUSE
-    elementcache.REUSE = reuse
-    try:
-        shaders, error = pipeline.generate(path, partial=True, **options)
-    except MtlxError as e:              # (a document that does not open: the same either way)
-        return None, e.lines()
-    finally:
-        elementcache.REUSE = saved
-    return [(s.element, s.stem, s.vertex, s.fragment, s.manifest) for s in shaders], \
-        (error.lines() if error is not None else None)
+    return generate_switched(path, {elementcache: reuse}, **options)
 
 
 def _same(path, **options):

@@ -9,9 +9,8 @@ import sys
 
 import pytest
 
-from conftest import EXAMPLES, HAVE_CORPUS, ROOT, TESTSUITE
+from conftest import EXAMPLES, HAVE_CORPUS, ROOT, TESTSUITE, generate_switched
 from mtlxgen import elementcache, emitcache, pipeline
-from mtlxgen.diagnostics import MtlxError
 from mtlxgen.graph import _Expansion
 
 sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
@@ -71,18 +70,9 @@ def awkward_document(path):
 
 
 def _generate(path, reuse, **options):
-    """(shaders, problems) with emission reuse on or off; kept elements off (elementcache.py: an element instantiated
-    from its template emits nothing, so it would leave the emissions of most materials untested)."""
-    saved = emitcache.REUSE, elementcache.REUSE
-    emitcache.REUSE, elementcache.REUSE = reuse, False
-    try:
-        shaders, error = pipeline.generate(path, partial=True, **options)
-    except MtlxError as e:              # (a document that does not open: the same either way)
-        return None, e.lines()
-    finally:
-        emitcache.REUSE, elementcache.REUSE = saved
-    return [(s.element, s.stem, s.vertex, s.fragment, s.manifest) for s in shaders], \
-        (error.lines() if error is not None else None)
+    """With emission reuse on or off; kept elements off (elementcache.py: an element instantiated from its template
+    emits nothing, so it would leave the emissions of most materials untested)."""
+    return generate_switched(path, {emitcache: reuse, elementcache: False}, **options)
 
 
 def _same(path, **options):
