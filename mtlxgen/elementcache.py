@@ -37,6 +37,7 @@ import re
 from dataclasses import fields, replace
 
 from . import document, emit, graph, mxtypes
+from .fieldtext import SEP, FieldText
 from .graphtypes import IDENTIFIER_CHARS, glsl_identifier
 
 REUSE = os.environ.get("MTLXGEN_ELEMENT_REUSE", "1") != "0"
@@ -63,7 +64,6 @@ _SENTINEL = "QX%dXQ"
 _FIELD = re.compile(r'QX(\d+)XQ|\x1e(\d+):(\w+)\x1e|"\\u001d(\d+)\\u001d"')
 _SENTINELS = re.compile(r"QX(\d+)XQ")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-_SEP = "\x1f"
 _REFUSED = object()
 
 
@@ -197,24 +197,8 @@ def _sentinel_doc(doc, st):
     return replace(doc, nodes=nodes, nodegraphs=graphs, outputs={}, inputs={}, order=list(nodes) + list(graphs))
 
 
-class _Pieces:
-    """A text with fields: fill(args) is the text with field i replaced by args[i] (a list join: 5x str.format's
-    speed on a shader's 600 fields)."""
-    __slots__ = ("parts", "get", "one")
-
-    def __init__(self, parts, fields):
-        self.parts, self.one = parts, len(fields) == 1
-        self.get = operator.itemgetter(*fields) if fields else None
-
-    def fill(self, args):
-        out = self.parts[:]
-        if self.get is not None:
-            out[1::2] = (self.get(args),) if self.one else self.get(args)
-        return "".join(out)
-
-
 class Template:
-    """A sentinel run's shader as one text with fields (vertex, fragment and the manifest's JSON, _SEP between them):
+    """A sentinel run's shader as one text with fields (vertex, fragment and the manifest's JSON, SEP between them):
     fields 0..n-1 the names, then one per (hole, GLSL type) the hole's GLSL literal (`literals`), then one per hole
     the manifest's JSON of its value (`values`). `named`: the names taken while building and emitting that hold a
     name, `fixed` the others: what the names substituted must not meet; `lengths`: (the length of an identifier
@@ -225,27 +209,34 @@ class Template:
             raise ValueError("document code")
         manifest = json.dumps(_json_holes(shader.manifest))
         texts = (shader.vertex, shader.fragment, manifest)
-        if any(_SEP in t for t in texts):
+        if any(SEP in t for t in texts):
             raise ValueError("separator in text")
-        literals, values, fields = {}, {}, []      # (hole, GLSL type) / hole -> its number among its kind
-        text = _SEP.join(texts)
-        for m in _FIELD.finditer(text):
+        joined = SEP.join(texts)
+        # fill's args: the names, then each (hole, GLSL type)'s literal, then each hole's JSON, in order of meeting
+        literals, values = {}, {}
+        for m in _FIELD.finditer(joined):
+            if m.group(2) is not None:
+                literals.setdefault((int(m.group(2)), m.group(3)), names + len(literals))
+            elif m.group(4) is not None:
+                values.setdefault(int(m.group(4)), len(values))
+        first_value = names + len(literals)
+
+        def field(m):
             if m.group(1) is not None:
-                fields.append(("name", int(m.group(1))))
-            elif m.group(2) is not None:
-                fields.append(("literal", literals.setdefault((int(m.group(2)), m.group(3)), len(literals))))
-            else:
-                fields.append(("value", values.setdefault(int(m.group(4)), len(values))))
-        if any(kind == "name" and k >= names for kind, k in fields):
-            raise ValueError("a name not numbered")
-        self.literals, self.values = list(literals), list(values)
-        first = {"name": 0, "literal": names, "value": names + len(literals)}
-        self.text = self._pieces(text, [first[kind] + k for kind, k in fields])
-        if any("\x1e" in p or "\\u001d" in p or "\\u001e" in p for p in self.text.parts):
+                if int(m.group(1)) >= names:
+                    raise ValueError("a name not numbered")
+                return int(m.group(1))
+            if m.group(2) is not None:
+                return literals[(int(m.group(2)), m.group(3))]
+            return first_value + values[int(m.group(4))]
+
+        self.text = FieldText(joined, _FIELD, field)
+        if any("\x1e" in p or "\\u001d" in p or "\\u001e" in p for p in self.text.literals):
             raise ValueError("placeholder")         # a placeholder cut or glued: not kept
+        self.literals, self.values = list(literals), list(values)
         named = sorted(i for i in taken if "QX" in i and _SENTINELS.search(i))
         self.fixed = frozenset(i for i in taken if not ("QX" in i and _SENTINELS.search(i)))
-        self.named = self._pieces(_SEP.join(named), [int(k) for i in named for k in _SENTINELS.findall(i)])
+        self.named = FieldText(SEP.join(named), _SENTINELS, lambda m: int(m.group(1)))
         self.count = len(named)
         idents = set(_IDENT.findall(shader.vertex)) | set(_IDENT.findall(shader.fragment)) | set(named)
         lengths = {}
@@ -259,22 +250,12 @@ class Template:
         self.lengths = [(rest, ks) for ks, rest in lengths.items()]
         self.checks = 0
 
-    @staticmethod
-    def _pieces(text, fields):
-        parts = _FIELD.split(text) if fields else [text]
-        # re.split gives each match's 4 groups: one piece per field instead
-        pieces = parts[0::5]
-        out = [pieces[0]]
-        for p in pieces[1:]:
-            out += ["", p]
-        return _Pieces(out, fields)
-
     def make(self, element, st):
         """The Shader of `element` (Structure st, this template's key), or None where its names would not be
         taken as the sentinel run took them, or a value has no GLSL literal."""
         names = st.names
         if self.count:
-            named = self.named.fill(names).split(_SEP)
+            named = self.named.fill(names).split(SEP)
             if len(set(named)) != self.count or not self.fixed.isdisjoint(named):
                 return None
         sizes = [len(n) for n in names]
@@ -286,7 +267,7 @@ class Template:
                     + [json.dumps(emit.manifest_value(values[k])) for k in self.values])
         except (mxtypes.ValueError_, ValueError, TypeError):    # (a full generation says which input)
             return None
-        vertex, fragment, manifest = self.text.fill(args).split(_SEP)
+        vertex, fragment, manifest = self.text.fill(args).split(SEP)
         return emit.Shader(element, vertex, fragment, json.loads(manifest))
 
 

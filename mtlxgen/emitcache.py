@@ -11,8 +11,8 @@ What a run of an expansion's nodes emits differs between two materials of one ex
 The first time, the run is emitted as usual and then once more by a _Recorder: an emitter over copies of the
 run's nodes whose ids, taken names and outer expressions are sentinels (plain GLSL identifiers, as the real ones
 are, so every test on them goes the same way), logging what emission does besides writing text (the files
-required, in order; the streams read; the stems names are taken from). Every recorded text becomes a format
-string whose fields are exactly where the sentinels were written. A later material's run is instantiated: its
+required, in order; the streams read; the stems names are taken from). Every recorded text becomes a
+fieldtext.FieldText whose fields are exactly where the sentinels were written. A later material's run is instantiated: its
 names taken by unique_identifier from the recorded stems with its own ids, in the recorded order, against its
 own shader's names (so a collision is resolved as a fresh emission resolves it), the files required and streams
 read replayed through the emitter, the variables, closure nodes, conditions and closure variables set.
@@ -38,6 +38,7 @@ import copy
 import os
 import re
 
+from .fieldtext import SEP, FieldText
 from .graphtypes import is_plain_name, unique_identifier
 from .stagewriter import StageWriter
 from .template import CLOSURE_TYPES
@@ -49,7 +50,6 @@ CHECKS = 2              # uses of a recording emitted in full and compared (the 
 # by a check (the recording did not give what the full emission gave)
 STATS = {"recorded": 0, "checked": 0, "reused": 0, "unkept": 0, "refused": 0}
 
-_SEP = "\x1f"           # joins the texts of one format string (never in emitted GLSL: checked when recording)
 _SENTINEL = re.compile(r"QZ([nieo])(\d+)\1ZQ")
 
 
@@ -203,30 +203,27 @@ def _record(em, run):
     limits = {"n": n_names, "i": len(sids), "e": len(outer)}
     bad = []
 
-    def fmt(text, names_allowed=True):
-        """`text` as a format string: each sentinel a field of the values _instantiate formats with."""
-        parts, last = [], 0
-        for m in _SENTINEL.finditer(text):
-            parts.append(text[last:m.start()])
+    def field(names_allowed):
+        def at(m):
+            """The index into _instantiate's values of sentinel match m (a bad sentinel noted, its field 0)."""
             kind, i = m.group(1), int(m.group(2))
             if kind == "o" or i >= limits[kind] or (kind == "n" and not names_allowed):
-                bad.append(text)
-            parts.append(base.get(kind, 0) + i)
-            last = m.end()
-        parts.append(text[last:])
-        out = []
-        for p in parts:
-            if isinstance(p, int):
-                out.append("{%d}" % p)
-            else:
-                if "QZ" in p or _SEP in p:        # a sentinel's part that is not one, or the separator
-                    bad.append(text)
-                out.append(p.replace("{", "{{").replace("}", "}}"))
-        return "".join(out)
+                bad.append(m.group(0))
+            return base.get(kind, 0) + i
+        return at
+
+    def fields(texts, names_allowed=True):
+        """`texts` as one FieldText (SEP between them): each sentinel a field of the values _instantiate fills."""
+        if any(SEP in t for t in texts):
+            bad.append(SEP)
+        ft = FieldText(SEP.join(texts), _SENTINEL, field(names_allowed))
+        if any("QZ" in p for p in ft.literals):     # a sentinel's part that is not one
+            bad.append("QZ")
+        return ft
 
     rec = _Recording()
     rec.outer, rec.n_names, rec.checks = outer, n_names, 1
-    rec.stems = _SEP.join(fmt(s, False) for s in r.stems)
+    rec.stems = fields(r.stems, False)
     lines = r.body
     vars_ = [((index[nid], out), text) for (nid, out), text in r.vars.items() if nid in index]
     if len(vars_) + len(fake_vars) != len(r.vars):
@@ -234,7 +231,7 @@ def _record(em, run):
     conds = [(index[nid], text) for nid, text in r.conditions.items()]
     cvars = [((block, index[nid], out), text) for (block, nid, out), text in r.closure_vars.items()]
     texts = list(lines) + [t for _, t in vars_] + [t for _, t in conds if t is not None] + [t for _, t in cvars]
-    rec.texts = _SEP.join(fmt(t) for t in texts)
+    rec.texts = fields(texts)
     if bad:
         return None
     rec.n_lines = len(lines)
@@ -255,9 +252,9 @@ def _instantiate(em, rec, run, exprs):
     n = rec.n_names
     values = ("",) * n + tuple(ids) + tuple(exprs)
     names = em.names
-    taken = [unique_identifier(stem, names) for stem in rec.stems.format(*values).split(_SEP)] if n else []
+    taken = [unique_identifier(stem, names) for stem in rec.stems.fill(values).split(SEP)] if n else []
     values = tuple(taken) + values[n:]
-    texts = rec.texts.format(*values).split(_SEP)
+    texts = rec.texts.fill(values).split(SEP)
     for rel in rec.requires:
         em.require(rel)
     em.app_uniforms |= rec.app_uniforms
