@@ -18,11 +18,8 @@ from .template import CLOSURE_TYPES
 EDGE_CONDITIONS = {("mix", "fg"): "{mix} != 0.0", ("mix", "bg"): "{mix} != 1.0"}
 
 
-_CLOSURE_TYPE_SET = frozenset(CLOSURE_TYPES)
-
-
 def is_closure_node(node):
-    return bool(node.outputs) and _CLOSURE_TYPE_SET.issuperset(node.outputs.values())
+    return bool(node.outputs) and CLOSURE_TYPES.issuperset(node.outputs.values())
 
 
 def conjoin(a, b):

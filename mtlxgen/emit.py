@@ -496,7 +496,7 @@ class Emitter:
                 self.vars[(node.id, oname)] = e     # pass-through: no copy
                 continue
             var = self.fresh("%s_%s" % (node.id, oname))
-            self.writer.line("%s %s = %s;" % (_SPELLING.get(otype) or self.glsl_type(otype), var, e))
+            self.writer.line("%s %s = %s;" % (self.glsl_type(otype), var, e))
             self.vars[(node.id, oname)] = var
         if impl.source is not None:
             self.note_document_code(impl, self.body[first_line:] + [
@@ -639,23 +639,20 @@ class Emitter:
                 if node.id in vertex_ids:
                     vertex_emitter.emit_node(node)
             vertex_emitter.result = vertex_emitter.expr(disp)
+        # kept expansions' nodes from their kept emission where it can be (emitcache.py)
         runs = g.expansion_runs if vertex_emitter is None and type(self) is Emitter else None
-        if runs:                    # kept expansions' nodes, from their kept emission where it can be (emitcache.py)
+        if runs:
             from .emitcache import emit_run
-            nodes_, i, n = g.nodes, 0, len(g.nodes)
-            while i < n:
-                run = runs.get(i)
-                if run is not None and emit_run(self, run, fragment_ids):
-                    i += len(run.ids)
-                    continue
-                node = nodes_[i]
-                if node.id in fragment_ids:
-                    self.emit_node(node)
-                i += 1
-        else:
-            for node in g.nodes:
-                if node.id in fragment_ids:
-                    self.emit_node(node)
+        nodes_, i, n = g.nodes, 0, len(g.nodes)
+        while i < n:
+            run = runs.get(i) if runs else None
+            if run is not None and emit_run(self, run, fragment_ids):
+                i += len(run.ids)
+                continue
+            node = nodes_[i]
+            if node.id in fragment_ids:
+                self.emit_node(node)
+            i += 1
         self.current = None
         out_expr = self.output_statement(g.result)
         if any(not mxtypes.CLOSURE_NAMES.isdisjoint(n.outputs.values()) for n in g.nodes if n.id in fragment_ids):

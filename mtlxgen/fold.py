@@ -321,13 +321,9 @@ def evaluate(category, nodedef_name, inputs, types, out_type):
 
 # ---------------------------------------------------------------- the pass
 
-def is_literal(s):
-    return s.literal
-
-
 def is_empty_closure(s):
     """An unconnected closure value: the empty closure (emit: mxtypes.closure_zero)."""
-    return is_literal(s) and mxtypes.is_closure(s.type)
+    return s.literal and mxtypes.is_closure(s.type)
 
 
 def _numbers(s):
@@ -349,12 +345,12 @@ def _passthrough(node, ins, impl):
         return None
     if cat == "dot" and otype != "filename":
         return ins["in"]
-    if cat in _CMP and nd not in _BOOLEAN_COMPARISONS and is_literal(ins["value1"]) and is_literal(ins["value2"]) \
+    if cat in _CMP and nd not in _BOOLEAN_COMPARISONS and ins["value1"].literal and ins["value2"].literal \
             and ins["value1"].type in VALUE_TYPES and ins["value2"].type in VALUE_TYPES:
         return ins["in1"] if _CMP[cat](_arr(ins["value1"].value), _arr(ins["value2"].value)) else ins["in2"]
     if mxtypes.is_closure(otype):
         return _closure_passthrough(node, ins, otype, impl)
-    if cat == "mix" and is_literal(ins["mix"]) and ins["mix"].type in FLOAT_TYPES:
+    if cat == "mix" and ins["mix"].literal and ins["mix"].type in FLOAT_TYPES:
         m = _numbers(ins["mix"])
         if np.all(m == 0.0):
             return ins["bg"]
@@ -367,10 +363,10 @@ def _closure_passthrough(node, ins, otype, impl):
     cat, nd = node.category, node.nodedef.name
     empty = Source(otype, loc=node.loc)
     weight = ins.get("weight")
-    if otype == "BSDF" and weight is not None and weight.type == "float" and is_literal(weight) \
+    if otype == "BSDF" and weight is not None and weight.type == "float" and weight.literal \
             and impl.closure is not None and weight.value < BSDF_EPSILON and not impl.opaque:
         return empty        # (an opaque lobe of zero weight is black, not empty: emit.Emitter.closure decides it)
-    if cat == "mix" and is_literal(ins["mix"]) and ins["mix"].type == "float":
+    if cat == "mix" and ins["mix"].literal and ins["mix"].type == "float":
         m = float(ins["mix"].value)
         clamped = otype in ("BSDF", "VDF")           # mg_mix_BSDF / mg_mix_VDF hold the factor to [0, 1]
         if m == 0.0 or (clamped and m < 0.0):
@@ -393,7 +389,7 @@ def _closure_passthrough(node, ins, otype, impl):
         if is_empty_closure(ins["in1"]):
             return empty
         w = ins["in2"]
-        if is_literal(w) and w.type in FLOAT_TYPES:
+        if w.literal and w.type in FLOAT_TYPES:
             v = _numbers(w)
             if otype == "BSDF" and np.all(v >= 1.0):       # mg_scale(c, clamp(w, 0, 1)): c itself
                 return ins["in1"]
@@ -401,7 +397,7 @@ def _closure_passthrough(node, ins, otype, impl):
                 return ins["in1"]
             if otype == "EDF" and np.all(v == 0.0):        # an EDF is a colour: times 0 is none
                 return empty
-    if cat == "uniform_edf" and is_literal(ins["color"]) and np.all(_numbers(ins["color"]) == 0.0):
+    if cat == "uniform_edf" and ins["color"].literal and np.all(_numbers(ins["color"]) == 0.0):
         return empty
     if cat == "generalized_schlick_edf" and is_empty_closure(ins["base"]):
         return empty                                      # base * tint
@@ -456,7 +452,7 @@ def _fold_node(node, ins, impl):
     if through is not None:
         return {oname: through}
     values = {k: s for k, s in ins.items() if s.type not in ("string", "geomname")}
-    if not values or not all(is_literal(s) for s in values.values()) or mxtypes.is_closure(otype):
+    if not values or not all(s.literal for s in values.values()) or mxtypes.is_closure(otype):
         return None
     try:
         v = evaluate(node.category, node.nodedef.name, {k: s.value for k, s in values.items()},

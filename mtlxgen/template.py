@@ -11,7 +11,7 @@ fail) and writes nothing itself.
 from . import mxtypes
 from .graphtypes import glsl_identifier
 
-CLOSURE_TYPES = ("BSDF", "EDF", "VDF")
+CLOSURE_TYPES = frozenset(("BSDF", "EDF", "VDF"))
 
 # closure contexts in which a BSDF shades with its normal turned towards the viewer
 FACING_CONTEXTS = ("reflection", "indirect", "transmission")
