@@ -379,7 +379,7 @@ class Emitter:
         if src.node not in self.conditions:
             self.take_plan(src.node)
         node = self.closure_nodes[src.node]
-        impl = self._closure_impls.get(src.node) or nodes.lookup(node.nodedef, self.graph.library)
+        impl = self._closure_impls[src.node]           # (looked up by emit_node, which made it a closure node)
         saved, self.context = self.context, context
         zero = mxtypes.closure_zero(src.type)          # what the lobe is where it is not computed
         try:
