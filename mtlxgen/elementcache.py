@@ -318,7 +318,7 @@ class KeptElements:
         self.count = {}                 # key -> how many of the session's elements have it
         self.kept = {}                  # key -> times met (1), a Template (with .checks), or _REFUSED
 
-    def structure(self, name):
+    def structure_of(self, name):
         if self.structures is None:
             doc = self.session.doc
             self.structures = {e: structure(doc, e) for e in self.session.elements}
@@ -331,7 +331,7 @@ class KeptElements:
     def shader(self, name, full):
         if not self.on:
             return full(name)
-        st = self.structure(name)
+        st = self.structure_of(name)
         key = st.key
         if key is None or self.count.get(key, 0) < CHECKS + 2:
             return full(name)
