@@ -8,14 +8,33 @@ Documents come from strangers (downloaded assets, pull requests), so two rules a
   of the tree is outside.
 - Every file read (documents, GLSL, images, IES profiles) must be a regular file: devices, FIFOs,
   sockets and anything under /proc, /sys or /dev are refused before opening (reading /dev/zero never
-  ends, /dev/stdin blocks, /proc/self/environ holds secrets). Text reads take at most a fixed size.
+  ends, /dev/stdin blocks, /proc/self/environ holds secrets), and so is a file larger than its kind's
+  size cap (MAX_BYTES), checked on the file's size before any library opens it.
+- A document saved directly in a shared folder anyone may write to (/tmp: world-writable with the sticky
+  bit) or in / does not make that whole tree an allowed root: there, only files owned by the document's
+  owner are admitted through the document's folder.
+
+Every file we write goes through write_atomic / write_through_temp: a temporary file in the same folder,
+fsync, then a rename over the target, so a reader never sees half a file, a crash leaves the old bytes, and
+an existing symlink at the output path is replaced, never followed. New files get ordinary modes
+(0666 less the umask); a file written over keeps its mode (and, where permitted, its owner).
 """
 import os
 import stat
+import tempfile
 
 from .diagnostics import MtlxError
 
 MAX_TEXT_BYTES = 32 * 2 ** 20           # one .mtlx, GLSL or IES file: far above any real one
+# size caps per kind of file, checked on the file's size before anything reads it (a 1 GB sparse file named
+# as a texture would otherwise be read to its end by every format reader)
+MAX_BYTES = {
+    "text": MAX_TEXT_BYTES,             # .mtlx, GLSL, IES
+    "image": 512 * 2 ** 20,             # a texture or environment file (a 16k float EXR is ~1.5 GB
+                                        # uncompressed, but files that size are compressed well under this)
+    "usd": 1024 * 2 ** 20,              # a USD layer or .usdz package
+    "json": 64 * 2 ** 20,               # results.json, manifests, rigs
+}
 SYSTEM_FOLDERS = ("/proc", "/sys", "/dev")
 
 _KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO"),
@@ -38,9 +57,27 @@ def _under(path, root):
     return path == root or path.startswith(root.rstrip(os.sep) + os.sep)
 
 
-def regular_file_problem(path):
-    """Why `path` may not be read as a file (a short phrase), or None when it is a regular file."""
-    real = os.path.realpath(path)
+def _megabytes(n):
+    return "%d MB" % (n // 2 ** 20) if n >= 2 ** 20 else "%d bytes" % n
+
+
+def regular_file_problem(path, max_bytes=None):
+    """Why `path` may not be read as a file (a short phrase), or None when it is a regular file (of at most
+    `max_bytes` bytes, where given: a key of MAX_BYTES or a number)."""
+    if isinstance(max_bytes, str):
+        max_bytes = MAX_BYTES[max_bytes]
+    try:
+        os.lstat(path)
+    except OSError as e:
+        return "missing (no such file)" if isinstance(e, FileNotFoundError) else "unreadable (%s)" % (e.strerror or e)
+    try:
+        real = os.path.realpath(path, strict=True)
+    except OSError as e:
+        if isinstance(e, FileNotFoundError):
+            return "a dangling symbolic link"
+        if e.errno == 40:           # ELOOP
+            return "a symbolic link loop"
+        return "unreadable (%s)" % (e.strerror or e)
     for folder in SYSTEM_FOLDERS:
         if _under(real, folder):
             return "a system file (under %s)" % folder
@@ -50,12 +87,15 @@ def regular_file_problem(path):
         return "unreadable (%s)" % (e.strerror or e)
     if not stat.S_ISREG(st.st_mode):
         return _kind(st.st_mode)
+    if max_bytes is not None and st.st_size > max_bytes:
+        return "larger than %s (%s)" % (_megabytes(max_bytes), _megabytes(st.st_size))
     return None
 
 
-def check_regular(path, loc, what):
-    """Raise MtlxError at `loc` unless `path` is a regular file outside /proc, /sys and /dev."""
-    problem = regular_file_problem(path)
+def check_regular(path, loc, what, max_bytes=None):
+    """Raise MtlxError at `loc` unless `path` is a regular file outside /proc, /sys and /dev (and of at most
+    `max_bytes` bytes: a MAX_BYTES key or a number)."""
+    problem = regular_file_problem(path, max_bytes)
     if problem is not None:
         raise MtlxError((loc, "%s is %s" % (what, problem)))
 
@@ -124,22 +164,63 @@ def library_roots():
     return [r for r in roots if r]
 
 
+class SharedRoot(str):
+    """An allowed root that is a shared folder (world-writable with the sticky bit, like /tmp, or /): only
+    files owned by `owner` (the document's owner) are inside it."""
+
+    def __new__(cls, path, owner):
+        obj = super().__new__(cls, path)
+        obj.owner = owner
+        return obj
+
+
+def is_shared_folder(folder):
+    """True for / and for a folder anyone may write to (world-writable, as /tmp and /var/tmp are)."""
+    try:
+        st = os.stat(folder)
+    except OSError:
+        return False
+    return os.path.realpath(folder) == os.sep or bool(st.st_mode & stat.S_IWOTH)
+
+
 def allowed_roots(doc_path, search_paths=(), extra=()):
-    """Real paths of the folders whose files may be copied into output for the document at doc_path."""
-    roots = [os.path.dirname(os.path.abspath(doc_path)), *search_paths, *library_roots(), *extra]
+    """Real paths of the folders whose files may be copied into output for the document at doc_path. The
+    document's own folder, where it is a shared folder (/tmp, /), is a SharedRoot: only files of the
+    document's owner count as inside it."""
+    doc_folder = os.path.realpath(os.path.dirname(os.path.abspath(doc_path)))
+    roots = [doc_folder, *search_paths, *library_roots(), *extra]
     out = []
     for r in roots:
         real = os.path.realpath(r)
         if os.path.isfile(real):       # a --library entry naming one file: that file's folder
             real = os.path.dirname(real)
+        if is_shared_folder(real):
+            if real != doc_folder:
+                continue               # a search path or declaring file's folder in /tmp admits nothing more
+            try:
+                real = SharedRoot(real, os.stat(doc_path).st_uid)
+            except OSError:
+                continue
         if real not in out:
             out.append(real)
     return out
 
 
+def _inside_root(real, root):
+    if not _under(real, root):
+        return False
+    owner = getattr(root, "owner", None)
+    if owner is None:
+        return True
+    try:
+        return os.stat(real).st_uid == owner
+    except OSError:
+        return False
+
+
 def is_inside(path, roots):
     real = os.path.realpath(path)
-    return any(_under(real, root) for root in roots)
+    return any(_inside_root(real, root) for root in roots)
 
 
 def check_inside(path, roots, loc, what):
@@ -171,3 +252,85 @@ def read_implementation(full, name, loc, doc_path):
     if text is None or "\0" in text:
         raise MtlxError((loc, "%s is not UTF-8 text" % what))
     return text
+
+
+# ------------------------------------------------------------------ writing
+
+def _new_file_mode():
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
+def _temp_beside(path, suffix=""):
+    """(fd, temp path) of a new, empty file in path's folder (O_EXCL: never an existing file or link)."""
+    folder = os.path.dirname(os.path.abspath(path)) or "."
+    return tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path)[:80] + ".", suffix=suffix or ".tmp")
+
+
+def _finish(tmp, path, mode):
+    """Give the temp file its mode (and the replaced file's owner), then rename it over `path`."""
+    try:
+        old = os.lstat(path)
+    except OSError:
+        old = None
+    keep = old is not None and stat.S_ISREG(old.st_mode)
+    os.chmod(tmp, stat.S_IMODE(old.st_mode) if keep and mode is None else
+             (_new_file_mode() if mode is None else mode))
+    if keep and hasattr(os, "chown"):
+        try:
+            os.chown(tmp, old.st_uid, old.st_gid)
+        except OSError:
+            pass                        # not permitted (not root): the writer's own, as any editor leaves it
+    os.replace(tmp, path)               # a symlink at `path` is replaced, not followed
+    try:
+        dfd = os.open(os.path.dirname(os.path.abspath(path)) or ".", os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(dfd)
+    except OSError:
+        pass
+    finally:
+        os.close(dfd)
+
+
+def write_atomic(path, data, mode=None):
+    """Write `data` (bytes, or str as UTF-8) to `path` all at once: a temporary file beside it, fsync, rename.
+    A crash leaves the old file whole; a symlink at `path` is replaced by the file, never followed. `mode`:
+    permission bits; default: the replaced regular file's, else 0666 less the umask."""
+    if isinstance(data, str):
+        data = data.encode("utf-8")
+    fd, tmp = _temp_beside(path)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        _finish(tmp, path, mode)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path
+
+
+def write_through_temp(path, writer, mode=None):
+    """Like write_atomic for a library that writes files itself (OpenImageIO): writer(temp path) writes a file
+    whose name ends as `path` does (the format follows the extension); then it is renamed over `path`."""
+    fd, tmp = _temp_beside(path, suffix=".tmp" + os.path.splitext(path)[1])
+    os.close(fd)
+    try:
+        writer(tmp)
+        with open(tmp, "rb") as f:
+            os.fsync(f.fileno())
+        _finish(tmp, path, mode)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path
