@@ -4,7 +4,7 @@ import os
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
-from .files import check_regular
+from .files import check_regular, write_through_temp
 
 MAX_IMAGE_PIXELS = 2 ** 27      # 16384 x 8192: a lat-long environment; a bigger header is a decompression bomb
 
@@ -76,6 +76,9 @@ def write_image(path, img):
         data = img if img.dtype == np.uint8 else to_srgb8(img)
     buf = oiio.ImageBuf(spec)
     buf.set_pixels(oiio.ROI(), np.ascontiguousarray(data))
-    if not buf.write(path):
-        raise MtlxError((Loc(path, 0), "cannot write image: %s" % buf.geterror().strip()))
+
+    def write(tmp):         # through a temporary file and a rename: a symlink at `path` is replaced, not followed
+        if not buf.write(tmp, fileformat=ext.lstrip(".")):
+            raise MtlxError((Loc(path, 0), "cannot write image: %s" % " ".join(buf.geterror().split())))
+    write_through_temp(path, write)
     return path
