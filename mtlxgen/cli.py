@@ -167,16 +167,17 @@ def _check_document(path):
         raise MtlxError((Loc(path or "<empty path>", 0), problem))
 
 
-def _generate(args, rig=()):
+def _generate(args, rig=(), unreadable_textures="error"):
     """(shaders that worked, MtlxError or None) for generate and render; warnings printed either way. rig: the
-    lights render binds (its shaders take as many, unless --max-lights says)."""
+    lights render binds (its shaders take as many, unless --max-lights says). unreadable_textures: "error" for
+    the commands that draw, "warning" for generate (pipeline.generate)."""
     from . import pipeline
     warnings = Warnings()
     try:
         return pipeline.generate(args.file, [args.element] if args.element else None, args.library, partial=True,
                                  usd_seed_rules=args.usd_seed_rules, environment=args.environment,
                                  usd_options=_usd_options(args), strict=args.strict, warnings=warnings,
-                                 **_session_options(args, rig))
+                                 unreadable_textures=unreadable_textures, **_session_options(args, rig))
     finally:
         _print_warnings(warnings.lines())
 
@@ -202,7 +203,7 @@ def _interface(args):
 
 
 def cmd_generate(args):
-    shaders, error = _generate(args)
+    shaders, error = _generate(args, unreadable_textures="warning")
     for s in shaders:
         paths = s.write(args.output)
         if args.verbose:

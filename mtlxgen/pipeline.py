@@ -51,6 +51,7 @@ class Session:
         self.strict = strict
         self.warnings = warnings if warnings is not None else Warnings()
         self.element_warnings = {}          # element name -> [(Loc, message)] met building it
+        self.element_notes = {}             # element name -> [(Loc, message)]: its textures that cannot be read
         try:
             self.doc = load_document(path, library_dirs, usd_options)
         except MtlxError as e:          # the document's warnings too, met before its problems
@@ -89,6 +90,8 @@ class Session:
                 self.warnings.extend(found)
         if self.strict and found:
             raise strict_error(found)
+        if self.stage is None:              # a stage's textures are checked as the stage is read (usdstage.py)
+            self.element_notes[name] = texture_notes(g, self.path)
         return g
 
     def warning_lines(self, name):
@@ -125,19 +128,46 @@ class Session:
         return shader
 
     def notes(self, name=None):
-        """Problems that leave an element drawn (a USD texture not found: its fallback is drawn); with no
-        name, those of the stage as a whole. Empty for .mtlx documents."""
+        """Problems that leave an element drawn (a texture not found: its default or fallback is drawn); with no
+        name, those of the stage as a whole. For a .mtlx document, those of an element already built (graph())."""
         if self.stage is None:
-            return []
+            return list(self.element_notes.get(name, ())) if name is not None else []
         if name is None:
             return list(self.stage.problems)
         m = self.stage.materials.get(name)
         return list(m.notes) if m is not None else []
 
 
+def texture_notes(g, doc_path):
+    """[(Loc, message)] for each texture file of graph `g` (a .mtlx document's) that cannot be read: not found
+    (with where it was looked for), or not a regular file. The shader is valid all the same (the image node's
+    default is drawn), so generate reports them as warnings and everything that draws as problems."""
+    from .files import quoted, regular_file_problem
+    from .resolve import resolve_file
+    notes = []
+    for u in g.uniforms.values():
+        if u.type != "filename" or not isinstance(u.value, str) or not u.value.strip():
+            continue
+        loc = u.loc or Loc(doc_path, 0)
+        if "<UDIM>" in u.value or "<UVTILE>" in u.value:
+            continue            # tiles: emission finds them, and refuses a pattern without any (emit.py)
+        found = resolve_file(u.value, doc_path)
+        if found is None:
+            looked = u.value if os.path.isabs(u.value) else os.path.join(
+                os.path.dirname(os.path.abspath(doc_path)), u.value)
+            notes.append((loc, "texture %s not found (looked for %s and in the search paths); the image's "
+                               "default is drawn" % (quoted(u.value), looked)))
+            continue
+        why = regular_file_problem(found)
+        if why is not None:
+            notes.append((loc, "texture %s is %s; the image's default is drawn" % (quoted(u.value), why)))
+    return notes
+
+
 @gc_paused()       # hundreds of thousands of objects, no cycles: the collector only slows a large graph 2-3x
 def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis",
-             usd_options=None, strict=False, warnings=None, target="glsl", interface=None, max_lights=0):
+             usd_options=None, strict=False, warnings=None, target="glsl", interface=None, max_lights=0,
+             unreadable_textures="warning"):
     """Shaders for the renderable elements of a .mtlx file (or the named ones).
 
     usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
@@ -158,21 +188,33 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
     interface with inputs kept editable): reduce.py. A kept name that names no input of the elements generated is
     a problem.
 
+    unreadable_textures: what a texture file that cannot be read (not found, not a regular file) is: "warning"
+    (the default: the shader itself is valid; an error all the same under strict) or "error" (for whatever draws
+    the shader, which would show a wrong image: render, view, web, three, golden and batch).
+
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
     session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options, strict, warnings,
                       target, interface, max_lights)
     problems, shaders = Problems(), []
-    for loc, message in session.notes():
-        problems.add(loc, message)
+    as_warnings = unreadable_textures == "warning" and not strict
+
+    def note(items):
+        if as_warnings:
+            session.warnings.extend(items)
+        elif unreadable_textures == "warning":          # strict
+            problems.extend(strict_error(items))
+        else:
+            for loc, message in items:
+                problems.add(loc, message)
+    note(session.notes())
     for name in session.elements:
         try:
             shaders.append(session.shader(name))
         except MtlxError as e:
             problems.extend(e)
-        for loc, message in session.notes(name):
-            problems.add(loc, message)
+        note(session.notes(name))
     if shaders:                         # a name kept (--keep) that named nothing drawn
         for loc, message in session.interface.unmatched(path):
             problems.add(loc, message)

@@ -12,13 +12,19 @@ def resolve_file(name, doc_path, extra=()):
     if not name:
         return None
     if os.path.isabs(name):
-        return name if os.path.exists(name) else None
-    doc_dir = os.path.dirname(os.path.abspath(doc_path))
-    for base in [doc_dir] + search_paths(extra) + _ancestors(doc_dir):
+        return name if os.path.lexists(name) else None
+    for base in search_folders(doc_path, extra):
         cand = os.path.join(base, name)
-        if os.path.exists(cand):
+        if os.path.lexists(cand):       # a dangling link or a loop too: found, and refused by whoever reads it
             return os.path.abspath(cand)
     return None
+
+
+def search_folders(doc_path, extra=()):
+    """The folders a relative file name is looked for in, in order: the document's, the search paths, then the
+    folders above the document's."""
+    doc_dir = os.path.dirname(os.path.abspath(doc_path))
+    return [doc_dir] + search_paths(extra) + _ancestors(doc_dir)
 
 
 def _ancestors(folder):
