@@ -127,11 +127,32 @@ class Session:
             shader.manifest["usd"] = self.stage.manifest(name)
         return shader
 
+    def _may_have_unreadable_textures(self):
+        """Whether any filename input the document writes names a file that cannot be read (once per session):
+        where none does, an element not built here (kept elements) has no texture notes."""
+        if getattr(self, "_unreadable", None) is None:
+            ports = list(self.doc.inputs.values())
+            for owner in list(self.doc.nodes.values()) + list(self.doc.nodegraphs.values()):
+                ports += owner.inputs.values()
+            for ng in self.doc.nodegraphs.values():
+                for node in ng.nodes.values():
+                    ports += node.inputs.values()
+            values = {p.value for p in ports if p.type == "filename" and isinstance(p.value, str) and p.value.strip()}
+            from .files import regular_file_problem
+            from .resolve import resolve_file
+            self._unreadable = any(resolve_file(v, self.path) is None or regular_file_problem(resolve_file(v, self.path))
+                                   for v in values if "<UDIM>" not in v and "<UVTILE>" not in v)
+        return self._unreadable
+
     def notes(self, name=None):
         """Problems that leave an element drawn (a texture not found: its default or fallback is drawn); with no
         name, those of the stage as a whole. For a .mtlx document, those of an element already built (graph())."""
         if self.stage is None:
-            return list(self.element_notes.get(name, ())) if name is not None else []
+            if name is None:
+                return []
+            if name not in self.element_notes and self._may_have_unreadable_textures():
+                self.graph(name)        # made from a kept template (elementcache.py): built here for its notes
+            return list(self.element_notes.get(name, ()))
         if name is None:
             return list(self.stage.problems)
         m = self.stage.materials.get(name)

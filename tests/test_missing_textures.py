@@ -115,3 +115,26 @@ def test_not_a_regular_file_is_named(tmp_path):
     os.symlink(str(tmp_path / "nowhere.png"), os.path.join(os.path.dirname(path), "dangling.png"))
     shaders, error = pipeline.generate(path, partial=True, unreadable_textures="error")
     assert error.problems[0][1] == "texture 'dangling.png' is a dangling symbolic link; the image's default is drawn"
+
+
+def test_materials_made_from_a_kept_template_are_checked_too(tmp_path):
+    """Six materials of one structure: from the fourth on they are instantiated (elementcache.py) without a
+    graph of their own; each still names its missing texture at its own input's line."""
+    parts = ['<?xml version="1.0"?>\n<materialx version="1.39">']
+    for k in range(6):
+        parts += ['  <image name="img%d" type="color3">' % k,
+                  '    <input name="file" type="filename" value="gone.png" />',
+                  '  </image>',
+                  '  <standard_surface name="ss%d" type="surfaceshader">' % k,
+                  '    <input name="base_color" type="color3" nodename="img%d" />' % k,
+                  '    <input name="base" type="float" value="0.%d" />' % (k + 1),
+                  '  </standard_surface>',
+                  '  <surfacematerial name="M%d" type="material">' % k,
+                  '    <input name="surfaceshader" type="surfaceshader" nodename="ss%d" />' % k,
+                  '  </surfacematerial>']
+    parts.append('</materialx>\n')
+    path = tmp_path / "six.mtlx"
+    path.write_text("\n".join(parts))
+    shaders, error = pipeline.generate(str(path), partial=True, unreadable_textures="error")
+    assert len(shaders) == 6
+    assert sorted(loc.line for loc, _ in error.problems) == [4 + 10 * k for k in range(6)]
