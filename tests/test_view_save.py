@@ -109,7 +109,7 @@ def test_a_file_changed_since_it_was_read_is_not_written(tmp_path):
     before = open(path).read()
     with pytest.raises(MtlxError) as e:
         docedit.save_values([(got["SR_base"], 0.1), (got["SR_metalness"], 0.3)])
-    assert e.value.lines() == ["%s:5: input 'base' of 'SR' is no longer at this line: not saved" % path]
+    assert e.value.lines() == ["%s:5: changed on disk since it was read: not saved; reload first" % path]
     assert open(path).read() == before            # nothing written, not even the edit that still fitted
 
 
