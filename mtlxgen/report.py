@@ -5,13 +5,25 @@ there is one, all embedded as base64 PNG, and why it failed; per material its me
 passing material has no images: `golden check` keeps images of failures only); materials sorted worst first (errors,
 failures by failing-pixel fraction, FLIP and mean difference, then missing goldens, then passes).
 No external resources: the file can be attached to a CI run and opened anywhere.
+
+results.json may come from elsewhere (a CI artefact), so it is not trusted: it is read as a regular file of at
+most MAX_BYTES["json"] (files.check_regular: no device, FIFO or /proc file), must be UTF-8 JSON of the shape
+golden check writes (check_schema: each field the report reads, with its type; a status one of error, fail,
+missing, pass), and every text from it reaches the page through escape.html_text / html_attr. An image is
+embedded only when its `files` entry names a regular file inside the results folder (symlinks resolved),
+within the image size cap, that starts with PNG's signature and decodes (images.read_image); an entry naming
+a file that is gone is shown as no image. Anything else is one `results.json:LINE: field: problem` line (line
+0 but for JSON syntax) and no report. The page is written through files.write_atomic.
 """
 import base64
-import html
 import json
+import math
 import os
 
 from .diagnostics import Loc, MtlxError
+from .escape import html_attr, html_text
+from .files import MAX_BYTES, check_regular, is_inside, quoted, read_bounded, regular_file_problem, write_atomic
+from .images import read_image
 
 RANK = {"error": 0, "fail": 1, "missing": 2, "pass": 3}
 IMAGES = (("golden", "golden"), ("new", "new render"), ("diff", "difference"), ("flip", "FLIP error"))
@@ -58,14 +70,145 @@ window.addEventListener('load', function () {
 """
 
 
+RESULTS = "results.json"
+STATUSES = tuple(RANK)
+# metrics golden.measure records: numbers (finite), FLIP's mean or null where FLIP is unavailable, texts, a flag;
+# where the first key of a group is present the report reads the others too
+NUMBER_METRICS = ("mean", "max", "failing_pixels", "fraction", "pixels", "threshold", "hdr_fraction",
+                  "hdr_max_relative")
+METRIC_GROUPS = (("fraction", ("failing_pixels", "pixels", "threshold", "mean", "max")),
+                 ("hdr_fraction", ("hdr_max_relative",)), ("parity", ("parity_passes",)))
+
+
+class _Invalid(Exception):
+    """A field of results.json outside the schema: where (a path like results[2].status) and why."""
+
+    def __init__(self, where, why):
+        super().__init__("%s: %s" % (where, why) if where else why)
+
+
+def _shown(value):
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _need(obj, kind, where):
+    types = {"an object": dict, "a list": list, "a text": str}
+    if not isinstance(obj, types[kind]):
+        raise _Invalid(where, "%s is not %s" % (_shown(obj), kind))
+    return obj
+
+
+def _keys(obj, keys, where):
+    for key in keys:
+        if key not in obj:
+            raise _Invalid(where, "missing %r" % key)
+
+
+def _field(where, key):
+    return "%s.%s" % (where, key) if where else key
+
+
+def _check_number(obj, key, where, nullable=False):
+    v = obj[key]
+    if not (_is_number(v) or (nullable and v is None)):
+        raise _Invalid(_field(where, key), "%s is not a finite number%s" % (_shown(v), " or null" if nullable else ""))
+
+
+def _check_texts(items, where):
+    for i, item in enumerate(_need(items, "a list", where)):
+        _need(item, "a text", "%s[%d]" % (where, i))
+
+
+def _check_metrics(m, where):
+    _need(m, "an object", where)
+    for lead, others in METRIC_GROUPS:
+        if lead in m:
+            _keys(m, others, where)
+    for key in NUMBER_METRICS:
+        if key in m:
+            _check_number(m, key, where)
+    if "flip" in m:
+        _check_number(m, "flip", where, nullable=True)
+    for key in ("parity", "size_mismatch"):
+        if key in m:
+            _need(m[key], "a text", _field(where, key))
+    if "parity_passes" in m and not isinstance(m["parity_passes"], bool):
+        raise _Invalid(_field(where, "parity_passes"), "%s is not true or false" % _shown(m["parity_passes"]))
+
+
+def _check_settings(s, where):
+    _need(s, "an object", where)
+    for key in ("size", "samples", "environment"):
+        if key in s and not (s[key] is None or isinstance(s[key], str) or _is_number(s[key])):
+            raise _Invalid(_field(where, key), "%s is not a text or a number" % _shown(s[key]))
+    if "lights" in s and s["lights"] is not None:
+        _need(s["lights"], "a list", _field(where, "lights"))
+
+
+def _check_result(r, where):
+    _need(r, "an object", where)
+    _keys(r, ("name", "source", "element", "status", "message", "metrics", "timings", "files", "settings"), where)
+    for key in ("name", "source", "element"):
+        _need(r[key], "a text", _field(where, key))
+    if not isinstance(r["status"], str) or r["status"] not in STATUSES:
+        raise _Invalid(_field(where, "status"), "%s is not one of %s" % (_shown(r["status"]), ", ".join(STATUSES)))
+    _check_texts(r["message"], _field(where, "message"))
+    _check_metrics(r["metrics"], _field(where, "metrics"))
+    for key in _need(r["timings"], "an object", _field(where, "timings")):
+        _check_number(r["timings"], key, _field(where, "timings"))
+    for key, name in _need(r["files"], "an object", _field(where, "files")).items():
+        _need(name, "a text", _field(_field(where, "files"), key))
+    _check_settings(r["settings"], _field(where, "settings"))
+
+
+def check_schema(data):
+    """Raise _Invalid unless `data` has the shape golden.check writes to results.json (the fields the report
+    reads, with their types; other fields are ignored)."""
+    _need(data, "an object", "")
+    _keys(data, ("results",), "")
+    for i, r in enumerate(_need(data["results"], "a list", "results")):
+        _check_result(r, "results[%d]" % i)
+    if data.get("notes") is not None:
+        _check_texts(data["notes"], "notes")
+    if data.get("golden_dir") is not None:
+        _need(data["golden_dir"], "a text", "golden_dir")
+    tol = data.get("tolerance")
+    if tol is not None:
+        _need(tol, "an object", "tolerance")
+        for key, nullable in (("threshold", False), ("max_fraction", True), ("hdr_relative", False), ("flip", True)):
+            if key in tol:
+                _check_number(tol, key, "tolerance", nullable)
+
+
 def load_results(out_dir):
-    path = os.path.join(out_dir, "results.json")
+    """results.json of a check output folder: a regular file of at most MAX_BYTES["json"], UTF-8 JSON in the
+    shape check_schema accepts; MtlxError (one line naming the file) otherwise."""
+    path = os.path.join(out_dir, RESULTS)
+    loc = Loc(path, 0)
+    if not os.path.lexists(path):
+        raise MtlxError((loc, "no check results here (run `mtlxgen golden check -o %s` first)" % out_dir))
+    check_regular(path, loc, "the check results file", max_bytes="json")
+    raw = read_bounded(path, loc, "the check results file", MAX_BYTES["json"])
     try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError) as e:
-        raise MtlxError((Loc(path, 0), "cannot read check results (run `mtlxgen golden check -o %s` first): %s"
-                         % (out_dir, e)))
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        raise MtlxError((loc, "not UTF-8 text (byte %d)" % e.start)) from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise MtlxError((Loc(path, e.lineno), "not JSON: %s (column %d)" % (e.msg, e.colno))) from None
+    except RecursionError:
+        raise MtlxError((loc, "not JSON this report reads: nested too deeply")) from None
+    try:
+        check_schema(data)
+    except _Invalid as e:
+        raise MtlxError((loc, str(e))) from None
+    return data
 
 
 def sort_key(r):
@@ -74,9 +217,47 @@ def sort_key(r):
             -float(m.get("flip") or 0.0), -float(m.get("mean") or 0.0), r["name"])
 
 
-def _data_uri(path):
-    with open(path, "rb") as f:
-        return "data:image/png;base64," + base64.b64encode(f.read()).decode("ascii")
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def _image_problem(out_dir, name):
+    """(why the image file `name`, inside the results folder, may not be embedded, None) or ("gone", None) where
+    it no longer exists (not embedded, not an error), or (None, its bytes): a regular PNG file that decodes."""
+    path = os.path.join(out_dir, name)
+    problem = regular_file_problem(path, "image")
+    if problem is not None:
+        return ("gone", None) if problem.startswith("missing") else ("%s is %s" % (quoted(name), problem), None)
+    try:
+        data = read_bounded(path, Loc(path, 0), "image", MAX_BYTES["image"])
+        if not data.startswith(PNG_SIGNATURE):
+            return "%s is not a PNG image" % quoted(name), None
+        read_image(path)            # decodes: a PNG signature before anything else is not enough
+    except MtlxError as e:
+        return "%s is not a PNG image (%s)" % (quoted(name), e.problems[0][1]), None
+    return None, data
+
+
+def embedded_images(data, out_dir):
+    """{(result index, key): data URI} of the images the report shows (IMAGES) that exist. Every `files` entry
+    must name a file inside the results folder (symlinks resolved); those shown must be regular PNG files
+    (size-capped, decoded). MtlxError at results.json otherwise."""
+    loc = Loc(os.path.join(out_dir, RESULTS), 0)
+    shown = {key for key, _ in IMAGES}
+    uris = {}
+    for i, r in enumerate(data.get("results", [])):
+        for key, name in sorted((r.get("files") or {}).items()):
+            where = "results[%d].files.%s" % (i, key)
+            if os.path.isabs(name) or not is_inside(os.path.join(out_dir, name), [os.path.realpath(out_dir)]):
+                raise MtlxError((loc, "%s: %s is outside the results folder" % (where, quoted(name))))
+            if key not in shown:
+                continue
+            problem, png = _image_problem(out_dir, name)
+            if problem == "gone":
+                continue
+            if problem is not None:
+                raise MtlxError((loc, "%s: %s" % (where, problem)))
+            uris[(i, key)] = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+    return uris
 
 
 def _metric_rows(r):
@@ -101,10 +282,15 @@ def _metric_rows(r):
     return rows
 
 
-def render_html(data, out_dir, title="mtlxgen golden check"):
-    results = sorted(data.get("results", []), key=sort_key)
+def render_html(data, out_dir, title="mtlxgen golden check", images=None):
+    """The page for results `data` (as load_results returns them); images: embedded_images(data, out_dir),
+    computed where not given. Every text from the results goes through escape.html_text / html_attr."""
+    if images is None:
+        images = embedded_images(data, out_dir)
+    order = sorted(range(len(data.get("results", []))), key=lambda i: sort_key(data["results"][i]))
+    results = [data["results"][i] for i in order]
     counts = {k: sum(1 for r in results if r["status"] == k) for k in ("fail", "error", "missing", "pass")}
-    esc = html.escape
+    esc, attr = html_text, html_attr
     tol = data.get("tolerance") or {}
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
              "<title>%s</title>" % esc(title), "<style>%s</style>" % CSS, "</head><body>",
@@ -117,10 +303,12 @@ def render_html(data, out_dir, title="mtlxgen golden check"):
                 esc("more than %g%% of its pixels fail" % (100 * float(tol["max_fraction"]))))]
     for note in data.get("notes") or []:
         parts.append('<p class="notes">%s</p>' % esc(note))
-    for r in results:
+    for i, r in zip(order, results):
         status = r["status"]
-        parts.append('<section class="material %s" id="%s" data-status="%s">' % (status, esc(r["name"]), status))
-        parts.append('<h2><span class="badge %s">%s</span>%s</h2>' % (status, status.upper(), esc(r["name"])))
+        parts.append('<section class="material %s" id="%s" data-status="%s">' % (attr(status), attr(r["name"]),
+                                                                                attr(status)))
+        parts.append('<h2><span class="badge %s">%s</span>%s</h2>' % (attr(status), esc(status.upper()),
+                                                                      esc(r["name"])))
         parts.append('<p class="src">%s : %s</p>' % (esc(r["source"]), esc(r["element"])))
         if r.get("message"):
             parts.append('<ul class="why">%s</ul>' % "".join("<li>%s</li>" % esc(line) for line in r["message"]))
@@ -128,11 +316,10 @@ def render_html(data, out_dir, title="mtlxgen golden check"):
             parts.append('<p class="passed">within tolerance; no images kept for passing materials</p>')
         figures = []
         for key, caption in IMAGES:
-            name = (r.get("files") or {}).get(key)
-            if name and os.path.exists(os.path.join(out_dir, name)):
-                figures.append('<figure><img class="%s" alt="%s: %s" src="%s"><figcaption>%s</figcaption></figure>'
-                               % (key, esc(caption), esc(r["name"]), _data_uri(os.path.join(out_dir, name)),
-                                  esc(caption)))
+            uri = images.get((i, key))
+            if uri is not None:
+                figures.append('<figure><img class="%s" alt="%s" src="%s"><figcaption>%s</figcaption></figure>'
+                               % (attr(key), attr("%s: %s" % (caption, r["name"])), attr(uri), esc(caption)))
         if not figures and status != "pass":
             figures.append('<figure><div class="placeholder">%s</div><figcaption>&nbsp;</figcaption></figure>'
                            % ("no golden yet" if status == "missing" else "not rendered"))
@@ -148,11 +335,11 @@ def render_html(data, out_dir, title="mtlxgen golden check"):
 
 
 def write_report(out_dir, html_path=None, title="mtlxgen golden check"):
-    """Write the report for a check output directory; returns the HTML file's path."""
+    """Write the report for a check output directory (through a temporary file and a rename: a symlink at
+    the output is replaced, never followed); returns the HTML file's path."""
     data = load_results(out_dir)
     html_path = html_path or os.path.join(out_dir, "report.html")
     text = render_html(data, out_dir, title)
     os.makedirs(os.path.dirname(os.path.abspath(html_path)), exist_ok=True)
-    with open(html_path, "w", encoding="utf-8") as f:
-        f.write(text)
+    write_atomic(html_path, text)
     return html_path
