@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
+from .files import regular_file_problem
 
 BUILTIN_SKY = "builtin_sky"
 CHUNK = 16          # elements per pool task: big files are split so the pool stays balanced
@@ -97,8 +98,14 @@ def list_elements(path, library_dirs=()):
     return graph.renderable_elements(pipeline.load_document(path, library_dirs))
 
 
-def _error_lines(e):
-    return list(e.lines()) if isinstance(e, MtlxError) else ["%s: %s" % (type(e).__name__, e)]
+def error_lines(e, path, element=""):
+    """The lines of a failure: a problem's own FILE:LINE lines; anything else is a bug of ours, one line naming the
+    document (and element) it met."""
+    if isinstance(e, MtlxError):
+        return list(e.lines())
+    what = " ".join(("%s: %s" % (type(e).__name__, e)).split())      # one line, whatever the message holds
+    return ["%s:0: %sinternal error: %s (set MTLXGEN_DEBUG=1 for details)"
+            % (path, "%s: " % element if element else "", what)]
 
 
 def run_job(job, library_dirs=(), strict=False, options=None):
@@ -113,14 +120,14 @@ def run_job(job, library_dirs=(), strict=False, options=None):
         session = pipeline.Session(job.path, job.elements, library_dirs, strict=strict, **(options or {}))
         names = session.elements
     except Exception as e:  # the file as a whole
-        return [Item(job.path, el, job.settings, error=_error_lines(e), pid=os.getpid())
+        return [Item(job.path, el, job.settings, error=error_lines(e, job.path, el), pid=os.getpid())
                 for el in (job.elements or ("",))]
     load_s = time.perf_counter() - t0
     try:
         r = renderer_for(job.settings)
         gl = r.ctx.info.get("GL_RENDERER", "")
     except Exception as e:
-        return [Item(job.path, n, job.settings, error=_error_lines(e), pid=os.getpid()) for n in names]
+        return [Item(job.path, n, job.settings, error=error_lines(e, job.path, n), pid=os.getpid()) for n in names]
     for name in names:
         item = Item(job.path, name, job.settings, pid=os.getpid(), gl_renderer=gl)
         t1 = time.perf_counter()
@@ -133,7 +140,7 @@ def run_job(job, library_dirs=(), strict=False, options=None):
             item.timings = {"load_s": load_s, "generate_s": t2 - t1, **gl_times,
                             "total_s": time.perf_counter() - t1 + load_s / len(names)}
         except Exception as e:
-            item.error = _error_lines(e)
+            item.error = error_lines(e, job.path, name)
             item.timings = {"load_s": load_s, "total_s": time.perf_counter() - t1}
         if not strict:                  # strict: they are the item's errors
             item.warnings = session.warning_lines(name)
@@ -141,29 +148,61 @@ def run_job(job, library_dirs=(), strict=False, options=None):
     return items
 
 
-def find_materials(paths):
+def find_materials(paths, problems=None):
     """.mtlx documents and USD stages named by PATHS: files as given; directories searched (sorted, hidden ones
     skipped) for .mtlx files and for the USD stages (.usd, .usda, .usdc, .usdz) among them that hold materials
     and that no other stage found there composes (usdstage.scene_files: a payload, reference or sublayer is
-    drawn as part of the stage that uses it); FILE:ELEMENT kept as is. Raises MtlxError for a path that does
-    not exist."""
+    drawn as part of the stage that uses it); FILE:ELEMENT kept as is (split_spec parts them).
+
+    Symbolic links to folders are not followed (a link loop, or a link to /, cannot make the walk endless or
+    take it out of the tree). An entry that cannot be read as a file (a dangling symbolic link, a link loop, a
+    FIFO, a device, a file over its size cap) or a folder that cannot be listed is left out, each a (Loc, message)
+    problem appended to `problems` (`PATH:0: skipped: WHY`): nothing hands it to a reader (a FIFO would block
+    it). Without a `problems` list they are raised, all together, as an MtlxError after the walk. Raises
+    MtlxError at once for a path that does not exist."""
     from .usdstage import is_usd, scene_files
+    skipped = []
+
+    def readable(path):
+        why = regular_file_problem(path, "usd" if is_usd(path) else "text")
+        if why is not None:
+            skipped.append((Loc(path, 0), "skipped: %s" % why))
+        return why is None
+
+    def unlisted(e):
+        skipped.append((Loc(e.filename or "?", 0), "skipped: a folder that cannot be listed (%s)" % (e.strerror or e)))
+
     files = []
     for p in paths:
         if os.path.isdir(p):
             found = []
-            for base, dirs, names in os.walk(p):
+            for base, dirs, names in os.walk(p, onerror=unlisted):      # links to folders: not followed
                 dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-                found += [os.path.join(base, n) for n in sorted(names) if n.endswith(".mtlx") or is_usd(n)]
+                found += [f for f in (os.path.join(base, n) for n in sorted(names)
+                                      if n.endswith(".mtlx") or is_usd(n)) if readable(f)]
             stages = set(scene_files([f for f in found if is_usd(f)]))
             files += [f for f in found if not is_usd(f) or f in stages]
-        elif os.path.exists(p):
-            files.append(p)
-        elif ":" in p and os.path.exists(p.rsplit(":", 1)[0]):
-            files.append(p)          # FILE.mtlx:ELEMENT
+        elif os.path.lexists(p):
+            if readable(p):
+                files.append(p)
+        elif ":" in p and os.path.lexists(p.rsplit(":", 1)[0]):
+            if readable(p.rsplit(":", 1)[0]):
+                files.append(p)          # FILE.mtlx:ELEMENT
         else:
             raise MtlxError((Loc(p, 0), "no such file or directory"))
+    if problems is not None:
+        problems.extend(skipped)
+    elif skipped:
+        raise MtlxError(skipped)
     return files
+
+
+def split_spec(spec):
+    """(file, element or None) of a find_materials entry: FILE, or FILE:ELEMENT where no file has the whole name."""
+    if os.path.lexists(spec) or ":" not in spec:
+        return spec, None
+    path, element = spec.rsplit(":", 1)
+    return path, element
 
 
 def _split(jobs, library_dirs):
@@ -212,7 +251,8 @@ def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False
                 try:
                     results[i] = fut.result()
                 except Exception as e:  # a worker died (GL crash, out of memory)
-                    results[i] = [Item(tasks[i].path, el, tasks[i].settings, error=_error_lines(e))
+                    path = tasks[i].path
+                    results[i] = [Item(path, el, tasks[i].settings, error=error_lines(e, path, el))
                                   for el in (tasks[i].elements or ("",))]
                 bar.advance(len(results[i]), os.path.basename(tasks[i].path))
     bar.close()

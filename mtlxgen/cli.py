@@ -451,14 +451,16 @@ def cmd_batch(args):
     from . import batch, images
     from .batch import RenderSettings
     settings = RenderSettings(size=args.size, environment=os.path.abspath(args.env) if args.env else "builtin_sky")
-    jobs = [batch.Job(p, (), settings) if os.path.exists(p) else batch.Job(p.rsplit(":", 1)[0], (p.rsplit(":", 1)[1],),
-                                                                         settings)
-            for p in batch.find_materials(args.paths)]
+    skipped = []            # entries that cannot be read (dangling links, FIFOs, ...): reported, the rest done
+    jobs = [batch.Job(path, (element,) if element else (), settings)
+            for path, element in map(batch.split_spec, batch.find_materials(args.paths, skipped))]
+    for line in MtlxError(skipped).lines():
+        print(line, file=sys.stderr)
     items = batch.render_jobs(jobs, workers=args.workers,
                               progress=False if args.no_progress else None, library_dirs=args.library,
                               strict=args.strict, options=_session_options(args))
     _print_warnings(line for it in items for line in it.warnings)
-    status, printed = 0, set()
+    status, printed = (1 if skipped else 0), set()
     for it in items:
         for line in it.error:           # failures, and problems of elements still drawn (USD: missing textures)
             status = 1
@@ -469,7 +471,15 @@ def cmd_batch(args):
             status = 1
             continue
         from .golden import golden_name
-        images.write_image(os.path.join(args.output, golden_name(it.path, it.element) + ".png"), it.image)
+        out = os.path.join(args.output, golden_name(it.path, it.element) + ".png")
+        try:                            # one image that cannot be written: said, and the others written
+            images.write_image(out, it.image)
+        except MtlxError as e:
+            status = 1
+            print("\n".join(e.lines()), file=sys.stderr)
+        except OSError as e:
+            status = 1
+            print("%s:0: cannot write image: %s" % (out, e.strerror or e), file=sys.stderr)
     print(batch.timing_table([("%s:%s" % (it.path, it.element), it.timings, it.ok) for it in items]))
     return status
 

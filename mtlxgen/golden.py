@@ -20,8 +20,6 @@ a FLIP limit is set. The scoreboard's parity verdict (compare.parity) is recorde
 """
 import json
 import os
-import shutil
-import tempfile
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -29,6 +27,7 @@ import numpy as np
 from . import batch, compare
 from .batch import RenderSettings
 from .diagnostics import Loc, MtlxError
+from .files import MAX_BYTES, check_regular, read_bounded, regular_file_problem, write_atomic
 from .images import read_image, to_srgb8, write_image
 
 INDEX_NAME = "index.json"
@@ -61,10 +60,10 @@ class Tolerance:
 
 def golden_name(path, element):
     """FILE__ELEMENT: the element's part as generate names its files (emit.file_stem: '/' as '_', and safe
-    and bounded for any name a document holds)."""
+    and bounded for any name a document holds); FILE alone for no element (a document that cannot be read)."""
     from .emit import file_stem
     stem = os.path.splitext(os.path.basename(path))[0]
-    return "%s__%s" % (stem, file_stem(element))
+    return "%s__%s" % (stem, file_stem(element)) if element else stem     # (no element: a file-wide problem)
 
 
 def is_hdr(img):
@@ -173,6 +172,7 @@ def heat_map(d, golden8, threshold):
 def read_png8(path):
     """A golden PNG's stored bytes as uint8 HxWxC (colour not multiplied by alpha on the way in)."""
     import OpenImageIO as oiio
+    check_regular(path, Loc(path, 0), "golden image", "image")
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
     buf = oiio.ImageBuf(path, 0, 0, config)
@@ -195,13 +195,13 @@ class Index:
         self.goldens = self._read()
 
     def _read(self):
-        if not os.path.exists(self.path):
+        if not os.path.lexists(self.path):
             return {}
+        loc = Loc(self.path, 1)
         try:
-            with open(self.path) as f:
-                data = json.load(f)
-        except (OSError, ValueError) as e:
-            raise MtlxError((Loc(self.path, 1), "cannot read golden index: %s" % e))
+            data = json.loads(read_bounded(self.path, loc, "golden index", MAX_BYTES["json"]))
+        except ValueError as e:
+            raise MtlxError((loc, "cannot read golden index: %s" % e)) from None
         if not isinstance(data, dict) or not isinstance(data.get("goldens", {}), dict):
             raise MtlxError((Loc(self.path, 1), "golden index must be an object with a 'goldens' object"))
         return data.get("goldens", {})
@@ -241,11 +241,8 @@ class Index:
         for name in removed:
             goldens.pop(name, None)
         os.makedirs(self.dir, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".index.", dir=self.dir)
-        with os.fdopen(fd, "w") as f:
-            json.dump({"version": INDEX_VERSION, "goldens": goldens}, f, indent=1, sort_keys=True)
-            f.write("\n")
-        os.replace(tmp, self.path)
+        write_atomic(self.path, json.dumps({"version": INDEX_VERSION, "goldens": goldens}, indent=1, sort_keys=True)
+                     + "\n")
         self.goldens = goldens
 
 
@@ -260,21 +257,26 @@ class Target:
 
 def targets(index, paths=None, library_dirs=()):
     """What to check or update: every golden in the index, or every renderable element in PATHS
-    (files, directories searched for .mtlx documents and USD stages (batch.find_materials), or FILE:ELEMENT)."""
+    (files, directories searched for .mtlx documents and USD stages (batch.find_materials), or FILE:ELEMENT).
+    A document that cannot be read (a dangling symbolic link, a FIFO, ...; or one that does not open) is a
+    target with an error, so that it is reported and fails the run, and the others are still done."""
     if not paths:
-        return [Target(index.source(e), e["element"], name, e) for name, e in sorted(index.goldens.items())]
-    out, seen = [], {}
-    for spec in batch.find_materials(paths):
-        path, elements = spec, None
-        if not os.path.exists(spec):
-            path, element = spec.rsplit(":", 1)
-            elements = [element]
-        path = os.path.abspath(path)
+        out = []
+        for name, e in sorted(index.goldens.items()):
+            path = index.source(e)
+            why = regular_file_problem(path) if os.path.lexists(path) else None    # (gone: check says so)
+            out.append(Target(path, e["element"], name, e, None if why is None else [
+                "%s:0: the source of golden %s is %s" % (index.rel(path), name, why)]))
+        return out
+    out, seen, skipped = [], {}, []
+    for spec in batch.find_materials(paths, skipped):
+        path, element = batch.split_spec(spec)
+        path, elements = os.path.abspath(path), None if element is None else [element]
         if elements is None:
             try:
                 elements = batch.list_elements(path, library_dirs)
-            except MtlxError as e:
-                out.append(Target(path, "", golden_name(path, ""), None, e.lines()))
+            except Exception as e:      # (a bug of ours: one line naming the document)
+                out.append(Target(path, "", golden_name(path, ""), None, batch.error_lines(e, path)))
                 continue
         for element in elements:
             name = golden_name(path, element)
@@ -291,6 +293,9 @@ def targets(index, paths=None, library_dirs=()):
                                    % (path, name, entry["source"])]))
                 continue
             out.append(Target(path, element, name, entry))
+    for loc, message in skipped:
+        path = os.path.abspath(loc.file)
+        out.append(Target(path, "", golden_name(path, ""), None, MtlxError((loc, message)).lines()))
     return out
 
 
@@ -409,7 +414,8 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
         if golden_exr is not None or is_hdr(it.image):
             files["new_exr"] = t.name + ".new.exr"
             write_image(os.path.join(out_dir, files["new_exr"]), it.image)
-        shutil.copyfile(golden_png, os.path.join(out_dir, files["golden"]))
+        write_atomic(os.path.join(out_dir, files["golden"]),
+                     read_bounded(golden_png, Loc(golden_png, 0), "golden image", MAX_BYTES["image"]))
         if d is not None:
             write_image(os.path.join(out_dir, files["diff"]), heat_map(d, golden8, tol.threshold))
         else:
@@ -422,10 +428,9 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
         notes.append("goldens were made with the GL renderer '%s', this run used '%s': small differences "
                      "are expected across drivers" % (old_gl, new_gl))
     run = CheckRun(results, os.path.abspath(out_dir), notes)
-    with open(os.path.join(out_dir, "results.json"), "w") as f:
-        json.dump({"golden_dir": index.dir, "tolerance": asdict(tolerance), "notes": notes, "results": results},
-                  f, indent=1, sort_keys=True)
-        f.write("\n")
+    write_atomic(os.path.join(out_dir, "results.json"),
+                 json.dumps({"golden_dir": index.dir, "tolerance": asdict(tolerance), "notes": notes,
+                             "results": results}, indent=1, sort_keys=True) + "\n")
     return run
 
 
@@ -439,7 +444,7 @@ def _remove_stale(out_dir, name):
     """A passing material's images from an earlier failing run would sit beside the new report, unexplained."""
     for suffix in (".new.png", ".new.exr", ".golden.png", ".diff.png", ".flip.png"):
         path = os.path.join(out_dir, name + suffix)
-        if os.path.isfile(path):
+        if os.path.islink(path) or os.path.isfile(path):
             os.remove(path)
 
 
@@ -487,17 +492,20 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
         if t.entry and t.entry.get("tolerance"):
             entry["tolerance"] = t.entry["tolerance"]
         png, exr = index.file(entry["png"]), index.file(t.name + ".exr")
-        same = (t.entry is not None and os.path.exists(png)
-                and {k: t.entry.get(k) for k in entry} == entry and np.array_equal(read_png8(png), img8)
-                and (entry["exr"] is None or (os.path.exists(exr) and np.array_equal(
-                    read_image(exr), it.image.astype(np.float16).astype(np.float32)))))
+        try:        # an old golden that cannot be read (a dangling link, a FIFO, a broken file) is written anew
+            same = (t.entry is not None and os.path.exists(png)
+                    and {k: t.entry.get(k) for k in entry} == entry and np.array_equal(read_png8(png), img8)
+                    and (entry["exr"] is None or (os.path.exists(exr) and np.array_equal(
+                        read_image(exr), it.image.astype(np.float16).astype(np.float32)))))
+        except MtlxError:
+            same = False
         if same:
             out.append((t.name, "unchanged", []))
             continue
         write_image(png, img8)
         if entry["exr"]:
             write_image(exr, it.image)
-        elif os.path.exists(exr):
+        elif os.path.lexists(exr):
             os.remove(exr)
         changed[t.name] = entry
         out.append((t.name, "updated" if t.entry else "created", ["%s" % os.path.relpath(png)]))
