@@ -153,7 +153,8 @@ class _Builder:
         self.doc = doc
         self.problems = problems
 
-    def port(self, el, ctx, kind):
+    def port(self, el, ctx, kind, declared=False):
+        """A Port of <input>, <output> or <token> `el`; declared: it is a nodedef's (its value a default)."""
         a = el.attrs
         name = a.get("name")
         if not name:
@@ -177,6 +178,10 @@ class _Builder:
             p.text = text
             slips = []
             try:
+                if not text.strip() and p.type in self.doc.structs and not declared:
+                    # a nodedef's empty struct default MaterialX reads as none; an instance's, it cannot read
+                    raise mxtypes.ValueError_("the value is empty, which MaterialX cannot read for a struct here "
+                                              "(only a nodedef's empty value reads as no value)")
                 p.value = mxtypes.parse_value(p.type, text, self.doc.structs, slips)
             except mxtypes.ValueError_ as e:
                 p.error = "%s '%s' of type %s: %s" % (kind, name, p.type, e)
@@ -216,7 +221,7 @@ class _Builder:
                                           % (c.get("name", ""), self.doc.version)))
                 continue
             if c.tag in ("input", "parameter"):
-                p = self.port(c, ctx, "input")
+                p = self.port(c, ctx, "input", isinstance(target, NodeDef))
                 target.inputs[p.name] = p
             elif c.tag == "output":
                 p = self.port(c, ctx, "output")

@@ -223,11 +223,21 @@ def parse_value(type_name, text, structs=None, slips=None):
             return tuple(vals)
         return tuple(tuple(vals[i:i + size]) for i in range(0, len(vals), size))
     if structs and type_name in structs:
+        if not text.strip():
+            # a nodedef's (or a struct member's) value="": MaterialX's generator reads no value there, so the
+            # struct's default (an instance's empty struct value MaterialX cannot read: document.py refuses it)
+            if slips is None:
+                raise ValueError_("empty value")
+            slips.append("the value is empty: read as no value (its default), as MaterialX reads it")
+            return None
         # struct values are written as a ';'-separated list of member values
         members = structs[type_name].members
         parts = _struct_parts(text)
         if len(parts) != len(members):
             raise ValueError_("struct %s has %d members, value %r has %d" % (type_name, len(members), text, len(parts)))
+        for (mn, _, _), p in zip(members, parts):
+            if not p.strip():           # (MaterialX cannot read it: it stops, or crashes)
+                raise ValueError_("member '%s' of struct %s is empty in %r" % (mn, type_name, text))
         return tuple(parse_value(mt, p.strip(), structs, slips) for (_, mt, _), p in zip(members, parts))
     if info is not None:   # closures and "none" carry no value
         return None
@@ -350,9 +360,9 @@ def zero(type_name, structs=None):
     if type_name in ARRAY_ELEMENT:
         return ()
     if structs and type_name in structs:
-        # slips in a member default were warned at its typedef
-        return tuple(parse_value(mt, d, structs, []) if d is not None else zero(mt, structs)
-                     for _, mt, d in structs[type_name].members)
+        # slips in a member default were warned at its typedef; an empty one (value="") is no default
+        values = [parse_value(mt, d, structs, []) if d is not None else None for _, mt, d in structs[type_name].members]
+        return tuple(zero(mt, structs) if v is None else v for (_, mt, _), v in zip(structs[type_name].members, values))
     return None
 
 
