@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 from . import closureplan, glsldeps, interface, mxtypes, nodes, streams, targets
 from . import template as template_expander
-from .diagnostics import MtlxError
+from .diagnostics import Loc, MtlxError
 from .graphtypes import Uniform, is_plain_name, sha256, unique_identifier
 from .library import glsl_lib_root
 from .stagewriter import StageWriter, comment_text  # noqa: F401 (emit.comment_text for callers)
@@ -43,15 +43,22 @@ class Shader:
             self.stem = file_stem(self.element)
 
     def write(self, out_dir):
-        os.makedirs(out_dir, exist_ok=True)
+        """Write STEM.vert, STEM.frag and STEM.json into out_dir (made where missing), each through a temporary
+        file and a rename (files.write_atomic: a symlink at an output is replaced, never followed). Returns
+        the paths; MtlxError (one line naming the file) where the file system refuses."""
+        from .files import write_atomic
         manifest = dict(self.manifest, vertex=self.stem + ".vert", fragment=self.stem + ".frag")
         paths = []
-        for ext, text in ((".vert", self.vertex), (".frag", self.fragment),
-                          (".json", json.dumps(manifest, indent=1) + "\n")):
-            p = os.path.join(out_dir, self.stem + ext)
-            with open(p, "w", encoding="utf-8") as f:
-                f.write(text)
-            paths.append(p)
+        p = out_dir
+        try:
+            os.makedirs(out_dir, exist_ok=True)
+            for ext, text in ((".vert", self.vertex), (".frag", self.fragment),
+                              (".json", json.dumps(manifest, indent=1) + "\n")):
+                p = os.path.join(out_dir, self.stem + ext)
+                write_atomic(p, text)
+                paths.append(p)
+        except OSError as e:
+            raise MtlxError((Loc(p, 0), "cannot write: %s" % (e.strerror or e))) from None
         return paths
 
 

@@ -8,6 +8,8 @@ import re
 import shutil
 import subprocess
 
+from .files import write_atomic
+
 GLSLANG = shutil.which("glslangValidator")
 SPIRV_VAL = shutil.which("spirv-val")
 
@@ -56,8 +58,7 @@ def validate(shader, tmp_dir, target="glsl"):
     errors, paths = [], {}
     for stage, text in (("vert", shader.vertex), ("frag", shader.fragment)):
         path = paths[stage] = os.path.join(tmp_dir, "%s.%s.%s" % (shader.stem, target, stage))
-        with open(path, "w") as f:
-            f.write(text)
+        write_atomic(path, text)        # (a symlink left at the path is replaced, not written through)
         if target != "vulkan":
             r = run_tool([GLSLANG, path])
             if r.returncode:

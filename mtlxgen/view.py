@@ -1080,8 +1080,14 @@ class Viewer:
 
     def screenshot(self, path=None):
         """PNG (sRGB) and EXR (linear) of the accumulated image; `render`'s naming (DIR/STEM.png, .exr) unless
-        a file is named (FILE.png and FILE.exr beside it, or FILE.exr and FILE.png). Returns the paths."""
+        a file is named (FILE.png and FILE.exr beside it, or FILE.exr and FILE.png). Returns the paths: none where
+        the shown element was never drawn (a document with problems from the start), said on one line; a black
+        picture would pass for a render."""
         from .images import write_image
+        if self.loaded.get(self.element) is None:
+            if not self.problems:       # (problems are on the terminal and in the title already)
+                self.say("%s:0: no screenshot: nothing is drawn" % self.display_path)
+            return []
         if path is None:
             loaded = self.loaded.get(self.element)
             stem = loaded.generated.stem if loaded is not None else "view"
@@ -1367,14 +1373,15 @@ def run(args):
             frames += 1
             if headless and frames >= args.headless_frames:
                 break
+        drawn = viewer.loaded.get(viewer.element) is not None
         if args.screenshot:
             for p in viewer.screenshot(args.screenshot):
                 print(p)
-        if args.capture_window:
+        if args.capture_window and drawn:       # (nothing drawn: no picture of it; the problems are said)
             print(capture(window, args.capture_window))
         if headless and viewer.problems:
             raise MtlxError([])
-        if headless and viewer.loaded.get(viewer.element) is None:
+        if headless and not drawn:
             return 1
         return 0
     finally:
