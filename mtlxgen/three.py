@@ -8,30 +8,36 @@ createSphere, createEnvironment, setEnvironment, createDisplay. OUT/STEM.html is
 element on render's sphere in render's scene (an import map points `three` at OUT/three/, where the user puts
 the npm package's files); OUT/environment.exr is the environment it lights with (the built-in sky, or --env).
 
-Texture files the manifest resolves are put beside the modules (OUT/textures/) so a page can load them: files
-three's loaders read (PNG, JPEG, WebP, OpenEXR, Radiance HDR) are copied when they decode as that image format,
-others are decoded and written as PNG (8-bit sources) or OpenEXR; a file that is missing or does not decode
-draws its default colour. What is copied is bounded as the web page bounds what it embeds.
+Texture files are never copied. Each file the manifest resolves (wherever the document points: textures are
+decoded, not copied, as the README's rule for untrusted documents says) is decoded through images.read_image
+and its pixels written afresh under OUT/textures/ so a page can load them: a PNG for 8-bit sources of up to
+four channels, else a 32-bit float OpenEXR (first four channels). No byte of the source file (metadata chunks,
+trailing data, the encoding itself) reaches the output; a file that is missing or does not decode draws its
+default colour. What is written is bounded as the web page bounds what it embeds. OUT/textures/ must be a
+folder of its own (a symbolic link there is refused).
+
+Text from the document is data in every file written: the module's values (element name, manifest, shaders)
+are JavaScript literals through escape.json_in_script, the doc comment shows names and values only as
+escape.js_comment's one-line JSON (no `*/` or line break can end the comment), and the example page's title
+goes through escape.html_text. Every file goes through files.write_atomic / write_through_temp (a symlink at an
+output path is replaced, never followed).
 """
 import hashlib
-import json
 import os
 import re
-import shutil
 
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
-from .images import image_header
-from .web import ASSETS, MAX_TEXTURE_PIXELS, MAX_TEXTURES_PIXELS, _html_text, _too_big, fill
+from .escape import html_text, js_comment, js_string, json_in_script
+from .files import check_regular, write_atomic, write_through_temp
+from .images import image_header, read_image
+from .web import ASSETS, MAX_TEXTURE_PIXELS, MAX_TEXTURES_PIXELS, _too_big, fill
 
 RUNTIME = "mtlxgen_three.js"
 ENVIRONMENT = "environment.exr"
 TEXTURES = "textures"
-# OpenImageIO format names three's loaders read, and the extension each is written with
-LOADABLE = {"png": ".png", "jpeg": ".jpg", "webp": ".webp", "openexr": ".exr", "hdr": ".hdr"}
-
-
+STEM = re.compile(r"[A-Za-z0-9_+][A-Za-z0-9_.+-]*\Z")     # emit.file_stem's characters
 
 
 def _safe_name(name):
@@ -40,70 +46,84 @@ def _safe_name(name):
     return stem[:100] + ext.lower()
 
 
+def _write_oiio(path, data, channels, fmt, compression=None):
+    """Write pixels (h, w, channels) as a new image file at `path` (format from its extension), through a
+    temporary file and a rename."""
+    import OpenImageIO as oiio
+    h, w = data.shape[:2]
+    spec = oiio.ImageSpec(w, h, channels, fmt)
+    spec.attribute("oiio:UnassociatedAlpha", 1)         # the values as given: no division by alpha
+    if compression:
+        spec.attribute("compression", compression)
+    buf = oiio.ImageBuf(spec)
+    buf.set_pixels(oiio.ROI(), np.ascontiguousarray(data))
+
+    def write(tmp):
+        if not buf.write(tmp):
+            raise MtlxError((Loc(path, 0), "cannot write: %s" % " ".join(buf.geterror().split())))
+    write_through_temp(path, write)
+
+
+def encode_texture(img, bits8, path_stem):
+    """Write decoded pixels `img` ((h, w, c) float, as images.read_image returns them) as PATH_STEM.png (8-bit
+    sources of up to 4 channels: the same 8-bit values) or PATH_STEM.exr (32-bit float, up to 4 channels);
+    returns the file's path."""
+    import OpenImageIO as oiio
+    c = img.shape[2]
+    if bits8 and c <= 4:
+        path = path_stem + ".png"
+        _write_oiio(path, np.clip(np.round(img * 255.0), 0, 255).astype(np.uint8), c, oiio.UINT8)
+    else:
+        path = path_stem + ".exr"
+        _write_oiio(path, np.ascontiguousarray(img[..., :4], dtype=np.float32), min(c, 4), oiio.FLOAT, "zip")
+    return path
+
+
 class TextureFiles:
-    """Texture files put under OUT/textures/ for the modules of one run, each once (by real path)."""
+    """Texture files written under OUT/textures/ for the modules of one run, each source once (by real path):
+    decoded and re-encoded, never copied."""
 
     def __init__(self, out_dir):
         self.out_dir = out_dir
         self.done = {}              # real path -> url relative to out_dir, or None (draws its default)
         self.budget = MAX_TEXTURES_PIXELS
 
+    def folder(self):
+        folder = os.path.join(self.out_dir, TEXTURES)
+        if os.path.islink(folder) or (os.path.lexists(folder) and not os.path.isdir(folder)):
+            raise MtlxError((Loc(folder, 0), "is a symbolic link or not a folder: textures are written only into a "
+                                             "folder of their own (remove it)"))
+        os.makedirs(folder, exist_ok=True)
+        return folder
+
     def url(self, path):
-        from .files import check_regular
         if not path or not os.path.exists(path):
             return None
         real = os.path.realpath(path)
         if real in self.done:
             return self.done[real]
-        check_regular(path, Loc(path, 0), "image file")
+        check_regular(path, Loc(path, 0), "image file", max_bytes="image")
         info = image_header(real)
         if info is None:
             self.done[real] = None
             return None
-        fmt, width, height, bits8 = info
+        _, width, height, bits8 = info
         if width * height > MAX_TEXTURE_PIXELS:
             raise _too_big(path, (width, height), MAX_TEXTURE_PIXELS, "texture")
         if width * height > self.budget:
             raise MtlxError((Loc(path, 0), "the textures of these elements add up to more than a page loads "
                                            "(%.1f megapixels)" % (MAX_TEXTURES_PIXELS / 1e6)))
-        self.budget -= width * height
-        folder = os.path.join(self.out_dir, TEXTURES)
-        os.makedirs(folder, exist_ok=True)
-        digest = hashlib.sha256(real.encode("utf-8", "surrogatepass")).hexdigest()[:8]
-        if fmt in LOADABLE:
-            stem = os.path.splitext(_safe_name(real))[0]
-            name = "%s-%s%s" % (stem, digest, LOADABLE[fmt])
-            shutil.copyfile(real, os.path.join(folder, name))
-        else:           # a format three does not load: decoded here, written as one it does
-            name = self._transcode(real, folder, digest, bits8)
-            if name is None:
-                self.done[real] = None
-                return None
-        self.done[real] = "%s/%s" % (TEXTURES, name)
-        return self.done[real]
-
-    @staticmethod
-    def _transcode(path, folder, digest, bits8):
-        import OpenImageIO as oiio
-        from .images import read_image
         try:
-            img = read_image(path)
+            img = read_image(real)
         except MtlxError:
+            self.done[real] = None
             return None
-        stem = os.path.splitext(_safe_name(path))[0]
-        h, w, c = img.shape
-        if bits8 and c <= 4:
-            name, spec = "%s-%s.png" % (stem, digest), oiio.ImageSpec(w, h, c, oiio.UINT8)
-            data = np.clip(np.round(img * 255.0), 0, 255).astype(np.uint8)
-        else:
-            name, spec = "%s-%s.exr" % (stem, digest), oiio.ImageSpec(w, h, min(c, 4), oiio.FLOAT)
-            data = np.ascontiguousarray(img[..., :4], dtype=np.float32)
-        spec.attribute("oiio:UnassociatedAlpha", 1)
-        buf = oiio.ImageBuf(spec)
-        buf.set_pixels(oiio.ROI(), np.ascontiguousarray(data))
-        if not buf.write(os.path.join(folder, name)):
-            raise MtlxError((Loc(path, 0), "cannot write its copy: %s" % buf.geterror().strip()))
-        return name
+        self.budget -= width * height
+        digest = hashlib.sha256(real.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+        stem = "%s-%s" % (os.path.splitext(_safe_name(real))[0], digest)
+        written = encode_texture(img, bits8, os.path.join(self.folder(), stem))
+        self.done[real] = "%s/%s" % (TEXTURES, os.path.basename(written))
+        return self.done[real]
 
 
 def write_environment(out_dir, environment=None):
@@ -111,24 +131,14 @@ def write_environment(out_dir, environment=None):
     import OpenImageIO as oiio
     from . import render
     env = render.builtin_sky() if environment is None else np.asarray(environment, dtype=np.float32)[..., :3]
-    h, w, _ = env.shape
-    spec = oiio.ImageSpec(w, h, 3, oiio.FLOAT)
-    spec.attribute("compression", "zip")
-    buf = oiio.ImageBuf(spec)
-    buf.set_pixels(oiio.ROI(), np.ascontiguousarray(env, dtype=np.float32))
     path = os.path.join(out_dir, ENVIRONMENT)
-    if not buf.write(path):
-        raise MtlxError((Loc(path, 0), "cannot write the environment: %s" % buf.geterror().strip()))
+    _write_oiio(path, np.ascontiguousarray(env, dtype=np.float32), 3, oiio.FLOAT, "zip")
     return path
 
 
 def _js(obj):
-    """A JavaScript literal of a JSON-able value (JSON is JavaScript; ASCII so no line separator breaks it)."""
-    return json.dumps(obj, ensure_ascii=True, indent=None, separators=(", ", ": "))
-
-
-def _doc_line(text):
-    return text.replace("*/", "* /")
+    """A JavaScript literal of a JSON-able value, safe in a module and inside an HTML <script> element."""
+    return json_in_script(obj, separators=(", ", ": "))
 
 
 def module_text(shader, textures):
@@ -136,6 +146,8 @@ def module_text(shader, textures):
     m = shader.manifest
     if m.get("target") != "essl":
         raise ValueError("three modules carry essl shaders (generate with target='essl')")
+    if not STEM.match(shader.stem):
+        raise ValueError("file stem %r is not one emit.file_stem makes" % shader.stem)
     tex_entries = []
     for t in m.get("textures", []):
         entry = {k: v for k, v in t.items() if k != "file"}
@@ -148,11 +160,10 @@ def module_text(shader, textures):
     for key in ("environment", "primvars"):
         if key in m:
             manifest[key] = m[key]
-    env_lines = ["%s %s: %s (default %s)" % (a["name"], a["type"], a.get("meaning", ""),
-                                             "none" if a.get("default") is None else _js(a["default"]))
-                 for a in m.get("application", [])]
+    # names and values from the document appear in the comment only as js_comment's one-line JSON
     doc = ["/**",
-           " * %s: a three.js material generated by mtlxgen from MaterialX (GLSL ES 3.00)." % _doc_line(shader.element),
+           " * A three.js material generated by mtlxgen from MaterialX (GLSL ES 3.00): element %s."
+           % js_comment(shader.element),
            " *",
            " * import * as THREE from 'three';",
            " * import { createMaterial, createSphere, prepareGeometry, createEnvironment, setEnvironment, createDisplay }",
@@ -171,14 +182,16 @@ def module_text(shader, textures):
            " * @returns THREE.RawShaderMaterial; material.userData.ready resolves when its textures are loaded",
            " *",
            " * Public uniforms (material.uniforms[name].value, from the document's values):",
-           ] + [" *   %s %s = %s" % (u["name"], u["type"], _doc_line(_js(u["value"]))) for u in m.get("uniforms", [])] + [
+           ] + [" *   " + js_comment({"name": u.get("name"), "type": u.get("type"), "value": u.get("value")})
+                for u in m.get("uniforms", [])] + [
            " * Textures (raw colour: the shader converts from the colorspace itself; wrap and filter as listed):",
-           ] + [" *   %s: %s (%s, %s/%s, %s)" % (t["uniform"], _doc_line(t["source"] or "no file"), t.get("colorspace") or "raw",
-                                             t.get("uaddressmode"), t.get("vaddressmode"), t.get("filtertype"))
+           ] + [" *   " + js_comment({k: t.get(k) for k in ("uniform", "source", "colorspace", "uaddressmode",
+                                                           "vaddressmode", "filtertype")})
                 for t in tex_entries] + [
            " * Application uniforms (set by createMaterial's onBeforeRender: the matrices from the object and",
            " * camera, u_viewPosition; by setEnvironment: the environment; the others keep these defaults):",
-           ] + [" *   " + _doc_line(line) for line in env_lines] + [
+           ] + [" *   " + js_comment({k: a.get(k) for k in ("name", "type", "meaning", "default")})
+                for a in m.get("application", [])] + [
            " */"]
     return "\n".join(doc) + "\n" + "\n".join([
         "import * as runtime from './%s';" % RUNTIME,
@@ -202,14 +215,15 @@ def module_text(shader, textures):
 def example_html(shader, size, samples):
     with open(os.path.join(ASSETS, "three_example.html"), encoding="utf-8") as f:
         text = f.read()
-    return fill(text, {"TITLE": _html_text(shader.element), "MODULE": "./%s.js" % shader.stem, "SIZE": str(int(size)),
-                       "SAMPLES": str(int(samples)), "ENVIRONMENT": ENVIRONMENT})
+    return fill(text, {"TITLE": html_text(shader.element), "MODULE": js_string("./%s.js" % shader.stem),
+                       "SIZE": str(int(size)), "SAMPLES": str(int(samples)), "ENVIRONMENT": js_string(ENVIRONMENT)})
 
 
 def write_runtime(out_dir):
     os.makedirs(out_dir, exist_ok=True)
     path = os.path.join(out_dir, RUNTIME)
-    shutil.copyfile(os.path.join(ASSETS, RUNTIME), path)
+    with open(os.path.join(ASSETS, RUNTIME), "rb") as f:
+        write_atomic(path, f.read())
     return path
 
 
@@ -217,9 +231,8 @@ def write_element(shader, out_dir, textures, size, samples):
     """OUT/STEM.js and OUT/STEM.html; returns their paths."""
     js = os.path.join(out_dir, shader.stem + ".js")
     text = module_text(shader, textures)
-    with open(js, "w", encoding="utf-8") as f:
-        f.write(text)
     html = os.path.join(out_dir, shader.stem + ".html")
-    with open(html, "w", encoding="utf-8") as f:
-        f.write(example_html(shader, size, samples))
+    page = example_html(shader, size, samples)
+    write_atomic(js, text)
+    write_atomic(html, page)
     return js, html

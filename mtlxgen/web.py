@@ -11,16 +11,20 @@ bytes render's PNG holds. Textures and the environment carry the mip chain rende
 Drag orbits, the wheel zooms, a double click returns to render's camera.
 
 Documents come from strangers: only files the manifest resolves are read, through images.read_image (regular
-files only, decoded, never copied), and what a page embeds is bounded (MAX_TEXTURE_PIXELS, MAX_ENV_PIXELS).
+files only, decoded, never copied: the page holds pixels, no byte of the file itself), and what a page embeds
+is bounded (MAX_TEXTURE_PIXELS, MAX_ENV_PIXELS). Text from the document (the element's name, a texture's file
+name, uniform names, the shaders' comments) is data: HTML text through escape.html_text, the data block JSON
+through escape.json_in_script (valid JSON that no `</script>` or `<!--` in a string can break out of). The page
+is written through files.write_atomic.
 """
 import base64
-import json
 import os
 import re
 
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
+from .escape import html_text, json_in_script
 
 ASSETS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web_assets")
 MAX_TEXTURE_PIXELS = 2 ** 22            # 2048 x 2048: one texture a page embeds
@@ -220,18 +224,9 @@ def page_data(shader, environment, size, samples):
     }
 
 
-def _script_json(obj):
-    """JSON safe inside a <script> element (no '</' can close it early)."""
-    return json.dumps(obj, separators=(",", ":")).replace("</", "<\\/").replace("<!--", "<\\!--")
-
-
 def _asset(name):
     with open(os.path.join(ASSETS, name), encoding="utf-8") as f:
         return f.read()
-
-
-def _html_text(text):
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
 
 
 def fill(template, values):
@@ -241,15 +236,26 @@ def fill(template, values):
 
 
 def page_html(data):
-    return fill(_asset("page.html"), {"TITLE": _html_text(data["element"]), "SIZE": str(data["size"]),
-                                      "DATA": _script_json(data), "VIEWER": _asset("viewer.js").replace("</", "<\\/")})
+    """The page: the element's name as HTML text (escape.html_text), the data as JSON safe inside its <script>
+    element (escape.json_in_script), the viewer inlined."""
+    return fill(_asset("page.html"), {"TITLE": html_text(data["element"]), "SIZE": str(int(data["size"])),
+                                      "DATA": json_in_script(data), "VIEWER": _viewer_script()})
+
+
+def _viewer_script():
+    """viewer.js as the text of an inline <script>: our own file, checked to hold nothing that ends the
+    element or opens an HTML comment."""
+    text = _asset("viewer.js")
+    if re.search(r"</script|<!--", text, re.I):
+        raise RuntimeError("web_assets/viewer.js holds '</script' or '<!--', which would end its inline script")
+    return text
 
 
 def write_page(shader, out_dir, environment, size, samples):
-    """Write OUT_DIR/STEM.html; returns its path."""
+    """Write OUT_DIR/STEM.html (files.write_atomic: a symlink there is replaced, never followed); returns its
+    path."""
+    from .files import write_atomic
     os.makedirs(out_dir, exist_ok=True)
     path = os.path.join(out_dir, shader.stem + ".html")
-    html = page_html(page_data(shader, environment, size, samples))
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(html)
+    write_atomic(path, page_html(page_data(shader, environment, size, samples)))
     return path

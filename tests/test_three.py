@@ -140,9 +140,10 @@ console.log(JSON.stringify(out));
     assert out["sphere"] == 129 * 65
 
 
-def test_textures_copied_beside_the_module(tmp_path):
-    """Texture files go to OUT/textures/ when they decode as an image three loads; one that does not decode is
-    not copied (its default colour is drawn); the module's manifest names the copies relative to itself."""
+def test_textures_written_beside_the_module(tmp_path):
+    """Texture files are decoded and their pixels written afresh to OUT/textures/ (8-bit sources as PNG, the same
+    8-bit values), never copied; one that does not decode is not written (its default colour is drawn); the
+    module's manifest names the written files relative to itself."""
     (tmp_path / "doc").mkdir()
     (tmp_path / "doc" / "fake.png").write_text("secret, not an image")
     shutil.copy(_path("examples/usd/stripes_r.png"), tmp_path / "doc" / "stripes.png")
@@ -162,9 +163,13 @@ def test_textures_copied_beside_the_module(tmp_path):
     out = tmp_path / "out"
     assert cli.main(["three", str(doc), "-o", str(out)]) == 0
     copies = sorted(p.name for p in (out / "textures").iterdir())
-    assert len(copies) == 2 and copies[0].startswith("rough-") and copies[0].endswith(".jpg")
+    assert len(copies) == 2 and copies[0].startswith("rough-") and copies[0].endswith(".png")
     assert copies[1].startswith("stripes-") and copies[1].endswith(".png")
-    assert (out / "textures" / copies[1]).read_bytes() == (tmp_path / "doc" / "stripes.png").read_bytes()
+    for copy, source in zip(copies, ("rough.jpg", "stripes.png")):      # the decoded pixels, exactly
+        got, want = images.read_image(str(out / "textures" / copy)), images.read_image(str(tmp_path / "doc" / source))
+        assert got.shape == want.shape and np.array_equal(got, want), copy
+    jpeg = (tmp_path / "doc" / "rough.jpg").read_bytes()
+    assert (out / "textures" / copies[0]).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and jpeg[:2] == b"\xff\xd8"
     module = next(out.glob("*.js"), None)
     text = [p for p in out.glob("*.js") if p.name != "mtlxgen_three.js"][0].read_text()
     manifest = json.loads(text.split("export const manifest = ", 1)[1].split(";\n", 1)[0])
@@ -180,3 +185,41 @@ def test_environment_written_is_render_sky(tmp_path):
     assert cli.main(["three", _path("examples/usd/usd_seed_rules.mtlx"), "-o", str(tmp_path), "--element", "gold"]) == 0
     env = images.read_image(str(tmp_path / "environment.exr"))
     assert np.array_equal(env, render.builtin_sky())
+
+
+def test_outputs_replace_symlinks_never_follow_them(tmp_path):
+    """Every file three writes (module, page, runtime, environment, textures) goes through a temporary file and a
+    rename: a symlink already at an output path is replaced by the file, and what it pointed to is untouched."""
+    out = tmp_path / "out"
+    args = ["three", _path("examples/usd/usd_seed_rules.mtlx"), "-o", str(out), "--element", "leaf"]
+    assert cli.main(args) == 0
+    written = sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file())
+    assert set(written) >= {"leaf.js", "leaf.html", "mtlxgen_three.js", "environment.exr"}
+    assert any(w.startswith("textures/") for w in written)
+    first = {w: (out / w).read_bytes() for w in written}
+    shutil.copytree(out, tmp_path / "first")
+    (tmp_path / "victims").mkdir()
+    for i, w in enumerate(written):
+        victim = tmp_path / "victims" / str(i)
+        victim.write_text("victim %d" % i)
+        os.remove(out / w)
+        os.symlink(str(victim), out / w)
+    assert cli.main(args) == 0
+    for i, w in enumerate(written):
+        assert (tmp_path / "victims" / str(i)).read_text() == "victim %d" % i, w
+        assert not os.path.islink(out / w), w
+        if w.endswith((".png", ".exr")):        # OpenEXR headers carry the time of writing: compare the pixels
+            assert np.array_equal(images.read_image(str(out / w)), images.read_image(str(tmp_path / "first" / w))), w
+        else:
+            assert (out / w).read_bytes() == first[w], w
+
+
+def test_texture_folder_that_is_a_symlink_is_refused(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (tmp_path / "elsewhere").mkdir()
+    os.symlink(str(tmp_path / "elsewhere"), out / "textures")
+    rc = cli.main(["three", _path("examples/usd/usd_seed_rules.mtlx"), "-o", str(out), "--element", "leaf"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 1 and len(err) == 1 and err[0].startswith(str(out / "textures") + ":0: is a symbolic link"), err
+    assert os.listdir(tmp_path / "elsewhere") == []

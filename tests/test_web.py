@@ -292,3 +292,16 @@ def test_unreadable_texture_draws_its_default(tmp_path):
     assert image["source"] == "default colour" and image["width"] == image["height"] == 1
     assert not image["mipmaps"]
     assert "not an image" not in json.dumps(payload)
+
+
+def test_page_replaces_a_symlink_never_follows_it(tmp_path):
+    """The page is written through a temporary file and a rename: a symlink at OUT/STEM.html is replaced."""
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me")
+    out = tmp_path / "out"
+    out.mkdir()
+    os.symlink(str(victim), out / "gold.html")
+    assert cli.main(["web", _path("examples/usd/usd_seed_rules.mtlx"), "-o", str(out), "--element", "gold",
+                     "--size", "8", "--samples", "1"]) == 0
+    assert victim.read_text() == "keep me"
+    assert not os.path.islink(out / "gold.html") and "mtlxgen-data" in (out / "gold.html").read_text()
