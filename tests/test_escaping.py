@@ -31,6 +31,8 @@ NAME = "<!--`${x}'\"*&<>\\"
 CS = 'x*/;globalThis.PWNED=1;console.log("PWNED");/*</script><!--`${x}\'"\u2028\u2029\n-->\\'
 # a texture path under the document's folder: folders "d<!--*" and "x<", so the path holds "*/" and "</script>"
 TEX_PARTS = ["d<!--*", "x<", "script>'\"`${u}\u2028\n*.png"]
+# the document's own file name (the shaders' header comment names it)
+DOC_NAME = "h<!--`${x}'\"\u2028\n*\\.mtlx"
 
 
 def _attr(text):
@@ -42,7 +44,7 @@ def hostile_document(folder):
     os.makedirs(os.path.join(folder, *TEX_PARTS[:-1]), exist_ok=True)
     shutil.copy(STRIPES, os.path.join(folder, *TEX_PARTS))
     tex = "/".join(TEX_PARTS)
-    doc = os.path.join(folder, "h.mtlx")
+    doc = os.path.join(folder, DOC_NAME)
     with open(doc, "w", encoding="utf-8") as f:
         f.write("""<?xml version="1.0"?>
 <materialx version="1.39" colorspace="lin_rec709">
@@ -243,6 +245,10 @@ def test_web_page_json_parses_and_holds_the_names(hostile):
         elements.add(data["element"])
         assert data["stem"] == page[:-5]
         assert [img["source"] for img in data["textures"]["images"]] == [TEX_PARTS[-1]]
+        for stage in ("vertex", "fragment"):        # GLSL comments: one printable ASCII line, no backslash
+            for line in data[stage].splitlines():
+                comment = line.partition("//")[2]
+                assert comment.isascii() and comment.isprintable() and "\\" not in comment, (stage, line)
         import html
         title = re.search(r"<title>(.*?) \(mtlxgen\)</title>", text, re.S).group(1)
         assert "<" not in title and html.unescape(title) == data["element"]
