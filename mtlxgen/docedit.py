@@ -346,21 +346,25 @@ def _unescape(raw):
 
 
 def _scan(text):
-    """The element tree of a document's text, with offsets: comments, CDATA sections, processing instructions
-    and declarations skipped whole, attribute values read between their quotes. Raises _ScanError."""
-    root, stack, pos = None, [], 0
+    """(root _Tag, [(start, end)] of the comments, CDATA sections, processing instructions and declarations) of
+    a document's text: those skipped whole, attribute values read between their quotes. Raises _ScanError."""
+    root, stack, pos, skipped = None, [], 0, []
     while True:
         i = text.find("<", pos)
         if i < 0:
             break
         if text.startswith("<!--", i):
             pos = _past(text, "-->", i + 4, i, "comment")
+            skipped.append((i, pos))
         elif text.startswith("<![CDATA[", i):
             pos = _past(text, "]]>", i + 9, i, "CDATA section")
+            skipped.append((i, pos))
         elif text.startswith("<?", i):
             pos = _past(text, "?>", i + 2, i, "processing instruction")
+            skipped.append((i, pos))
         elif text.startswith("<!", i):
             pos = _past_declaration(text, i)
+            skipped.append((i, pos))
         elif text.startswith("</", i):
             m = _NAME.match(text, i + 2)
             if not stack or m is None or m.group() != stack[-1].tag:
@@ -383,7 +387,7 @@ def _scan(text):
         raise _ScanError(0, "no element")
     if stack:
         raise _ScanError(stack[-1].start, "<%s> is not closed" % stack[-1].tag)
-    return root
+    return root, skipped
 
 
 def _past(text, end, at, start, what):
@@ -489,16 +493,27 @@ def _encoding(data, loc):
     return b"", codec
 
 
-def _newline_after(text, pos):
+def _break_after(text, pos, skipped):
+    """The first line break at or after `pos` outside comments, CDATA sections and processing instructions (a
+    break inside one of those may be an odd one out), else None."""
+    starts = [s for s, _ in skipped]
+    for m in _BREAK.finditer(text, pos):
+        k = bisect.bisect_right(starts, m.start()) - 1
+        if k < 0 or m.start() >= skipped[k][1]:
+            return m
+    return None
+
+
+def _newline_after(text, pos, skipped):
     """The line break ending the line at `pos`, else the document's first, else LF."""
-    m = _BREAK.search(text, pos) or _BREAK.search(text)
+    m = _break_after(text, pos, skipped) or _break_after(text, 0, skipped)
     return m.group(0) if m else "\n"
 
 
-def _child_indent(text, el, indent):
+def _child_indent(text, el, indent, skipped):
     """The indentation of the element's first child line, else the element's own plus two spaces."""
     if not el.closed:
-        m = _BREAK.search(text, el.end)
+        m = _break_after(text, el.end, skipped)
         if m is not None:
             child = _INDENT.match(text, m.end()).group(0)
             if len(child) > len(indent) and text.startswith("<", m.end() + len(child)):
@@ -534,7 +549,7 @@ def _plan(path, items):
     index = _reader_index(path, data, sha)
     lines = _Lines(text)
     try:
-        root = _scan(text)
+        root, skipped = _scan(text)
     except _ScanError as e:
         raise MtlxError((Loc(path, lines.line(e.offset)), "cannot find the elements in the text (%s): not saved"
                          % e)) from None
@@ -582,8 +597,8 @@ def _plan(path, items):
     for owner, by_name in inserts.values():
         line_begin = max(text.rfind("\n", 0, owner.start), text.rfind("\r", 0, owner.start)) + 1
         indent = _INDENT.match(text, line_begin).group(0)
-        newline = _newline_after(text, owner.end)
-        child = _child_indent(text, owner, indent)
+        newline = _newline_after(text, owner.end, skipped)
+        child = _child_indent(text, owner, indent, skipped)
         body = "".join('%s%s<input name="%s" type="%s" value="%s" />' % (
             newline, child, _escape(name), _escape(item.mtlx_type), _escape(value_text))
             for name, (item, value_text) in by_name.items())
