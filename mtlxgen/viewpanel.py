@@ -237,12 +237,16 @@ class Panel:
             self.message = "nothing changed"
             return []
         edits = [(item, loaded.overrides[item.uniform]) for item in self.inputs if item.uniform in loaded.overrides]
+        if not edits:
+            self.message = "nothing to save: the changed values are not inputs the document sets"
+            return []
         try:
             written = docedit.save_values(edits)
-        except MtlxError as e:
-            for line in e.lines():
+        except MtlxError as e:          # refused, nothing written: one FILE:LINE line each
+            lines = e.lines()
+            for line in lines:
                 v.say(line)
-            self.message = e.lines()[0]
+            self.message = lines[0] + (" (and %d more)" % (len(lines) - 1) if len(lines) > 1 else "")
             return []
         self.message = "saved %d value%s to %s" % (len(edits), "" if len(edits) == 1 else "s",
                                                    ", ".join(os.path.basename(p) for p in written))

@@ -1,7 +1,8 @@
-"""The property panel's model and "Save" (issue 12), without a window: docedit.public_inputs lists an element's
-public inputs with the nodedef's ui metadata and where each is written; save_values writes edited values back as
-the smallest text edit (the value attribute at the input's line, or one <input> line added to its node),
-touching nothing else; the document generated again gives the edited values."""
+"""The property panel's model and "Save", without a window: docedit.public_inputs lists an element's public
+inputs with the nodedef's ui metadata and where each is written; save_values writes edited values back as the
+smallest text edit (the value attribute of the input, or one <input> line added to its node), touching nothing
+else; the document generated again gives the edited values. (tests/test_writeback.py: encodings, line endings,
+files changed on disk, failed writes.)"""
 import os
 
 import pytest
@@ -139,3 +140,35 @@ def test_a_usd_stage_is_not_written(tmp_path):
     assert len(e.value.lines()) == 1 and "saved into .mtlx documents only" in e.value.lines()[0]
     assert e.value.lines()[0].startswith(path + ":/")
     assert open(path).read() == before
+
+
+def test_the_panels_save_says_what_it_did(tmp_path):
+    """Panel.save (no window needed): the values saved and where; a refusal is the first problem line (the
+    count of the others after it), every line printed, the file untouched; nothing to save said so."""
+    from types import SimpleNamespace
+    from mtlxgen.viewpanel import Panel
+    path = write(tmp_path, DOC)
+    session = pipeline.Session(path)
+    said = []
+    loaded = SimpleNamespace(overrides={"SR_base": 0.25, "SR_coat": 0.5})
+    panel = Panel.__new__(Panel)
+    panel.viewer = SimpleNamespace(element="M", loaded={"M": loaded}, say=said.append)
+    panel.inputs = docedit.public_inputs(session, "M")
+    assert panel.save() == [path] and panel.message == "saved 2 values to doc.mtlx" and said == [panel.message]
+    assert 'value="0.25"' in open(path).read()
+    # an editor adds a line above the node; the panel lists the inputs again before the viewer has read the file
+    # (its session has the old lines): they are not confirmed, and not saved
+    with open(path, "w") as f:
+        f.write(DOC.replace("<materialx", "\n<materialx"))
+    panel.inputs, said[:] = docedit.public_inputs(session, "M"), []
+    assert panel.save() == []
+    assert said == ["%s:5: input 'base' of 'SR': the file changed while the document was read: not saved; reload "
+                    "first" % path, "%s:4: input 'coat' of 'SR': the file changed while the document was read: not "
+                    "saved; reload first" % path]
+    assert panel.message == said[0] + " (and 1 more)"
+    assert open(path).read() == DOC.replace("<materialx", "\n<materialx")
+    # read again (as the viewer does after the change): saved
+    panel.inputs = docedit.public_inputs(pipeline.Session(path), "M")
+    assert panel.save() == [path] and 'value="0.25"' in open(path).read()
+    loaded.overrides = {"not_an_input": 1.0}
+    assert panel.save() == [] and panel.message.startswith("nothing to save")
