@@ -10,8 +10,8 @@ the npm package's files); OUT/environment.exr is the environment it lights with 
 
 Texture files are never copied. Each file the manifest resolves (wherever the document points: textures are
 decoded, not copied, as the README's rule for untrusted documents says) is decoded through images.read_image
-and its pixels written afresh under OUT/textures/ so a page can load them: a PNG for 8-bit sources of up to
-four channels, else a 32-bit float OpenEXR (first four channels). No byte of the source file (metadata chunks,
+and its pixels written afresh under OUT/textures/ so a page can load them (encode_texture): a PNG for 8-bit
+sources of up to four channels, else a 32-bit float OpenEXR. No byte of the source file (metadata chunks,
 trailing data, the encoding itself) reaches the output; a file that is missing or does not decode draws its
 default colour. What is written is bounded as the web page bounds what it embeds. OUT/textures/ must be a
 folder of its own (a symbolic link there is refused).
@@ -66,16 +66,20 @@ def _write_oiio(path, data, channels, fmt, compression=None):
 
 def encode_texture(img, bits8, path_stem):
     """Write decoded pixels `img` ((h, w, c) float, as images.read_image returns them) as PATH_STEM.png (8-bit
-    sources of up to 4 channels: the same 8-bit values) or PATH_STEM.exr (32-bit float, up to 4 channels);
-    returns the file's path."""
+    sources of up to 4 channels: the same 8-bit values) or PATH_STEM.exr (32-bit float, up to 4 channels; two
+    channels, grey and alpha, as R and G with a zero B: three's EXRLoader reads Y or RGB(A), not RG alone, and
+    the shader reads a 2-channel texture's r and g); returns the file's path."""
     import OpenImageIO as oiio
     c = img.shape[2]
     if bits8 and c <= 4:
         path = path_stem + ".png"
         _write_oiio(path, np.clip(np.round(img * 255.0), 0, 255).astype(np.uint8), c, oiio.UINT8)
-    else:
-        path = path_stem + ".exr"
-        _write_oiio(path, np.ascontiguousarray(img[..., :4], dtype=np.float32), min(c, 4), oiio.FLOAT, "zip")
+        return path
+    data = np.asarray(img[..., :4], dtype=np.float32)
+    if data.shape[2] == 2:
+        data = np.concatenate([data, np.zeros_like(data[..., :1])], axis=2)
+    path = path_stem + ".exr"
+    _write_oiio(path, np.ascontiguousarray(data), data.shape[2], oiio.FLOAT, "zip")
     return path
 
 

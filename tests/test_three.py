@@ -223,3 +223,66 @@ def test_texture_folder_that_is_a_symlink_is_refused(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 1 and len(err) == 1 and err[0].startswith(str(out / "textures") + ":0: is a symbolic link"), err
     assert os.listdir(tmp_path / "elsewhere") == []
+
+
+def _deep_textures(folder):
+    """A 16-bit grey + alpha PNG and a float RGB OpenEXR carrying a metadata text, in `folder`."""
+    import OpenImageIO as oiio
+    rng = np.random.RandomState(7)
+    ga = (rng.rand(6, 5, 2) * 65535).astype(np.uint16)
+    spec = oiio.ImageSpec(5, 6, 2, oiio.UINT16)
+    buf = oiio.ImageBuf(spec)
+    buf.set_pixels(oiio.ROI(), ga)
+    assert buf.write(os.path.join(folder, "ga16.png"))
+    rgb = (rng.rand(4, 3, 3) * 8).astype(np.float32)
+    spec = oiio.ImageSpec(3, 4, 3, oiio.FLOAT)
+    spec.attribute("ImageDescription", "METADATA-NOT-FOR-OUTPUT")
+    buf = oiio.ImageBuf(spec)
+    buf.set_pixels(oiio.ROI(), rgb)
+    assert buf.write(os.path.join(folder, "hdr.exr"))
+    return os.path.join(folder, "ga16.png"), os.path.join(folder, "hdr.exr")
+
+
+def test_textures_of_more_than_8_bits_are_written_as_float_exr(tmp_path):
+    """Sources deeper than 8 bits keep their values: a 32-bit float OpenEXR of the decoded pixels (grey + alpha
+    as R, G and a zero B), no metadata of the source."""
+    from mtlxgen import three
+    ga16, hdr = _deep_textures(str(tmp_path))
+    textures = three.TextureFiles(str(tmp_path / "out"))
+    url_ga, url_hdr = textures.url(ga16), textures.url(hdr)
+    assert url_ga.startswith("textures/ga16-") and url_ga.endswith(".exr") and url_hdr.endswith(".exr")
+    got = images.read_image(str(tmp_path / "out" / url_ga))
+    want = images.read_image(ga16)
+    assert got.shape == (6, 5, 3) and np.array_equal(got[..., :2], want) and not got[..., 2].any()
+    assert np.array_equal(images.read_image(str(tmp_path / "out" / url_hdr)), images.read_image(hdr))
+    assert b"METADATA-NOT-FOR-OUTPUT" not in (tmp_path / "out" / url_hdr).read_bytes()
+    assert textures.url(ga16) == url_ga and len(os.listdir(tmp_path / "out" / "textures")) == 2   # each once
+
+
+def test_written_exr_textures_load_in_threes_exr_loader(three_dir, tmp_path):
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed")
+    from mtlxgen import three
+    ga16, hdr = _deep_textures(str(tmp_path))
+    textures = three.TextureFiles(str(tmp_path / "out"))
+    script = tmp_path / "exr.mjs"
+    script.write_text("""
+import * as THREE from %s;
+import { EXRLoader } from %s;
+import * as fs from "fs";
+const b = fs.readFileSync(process.argv[2]);
+const r = new EXRLoader().setDataType(THREE.FloatType).parse(b.buffer.slice(b.byteOffset, b.byteOffset + b.length));
+console.log(JSON.stringify({ width: r.width, height: r.height, rgba: r.format === THREE.RGBAFormat, data: Array.from(r.data) }));
+""" % (json.dumps(os.path.join(three_dir, "build", "three.module.js")),
+       json.dumps(os.path.join(three_dir, "examples", "jsm", "loaders", "EXRLoader.js"))))
+    for source in (ga16, hdr):
+        written = str(tmp_path / "out" / textures.url(source))
+        r = subprocess.run([node, str(script), written], capture_output=True, text=True, timeout=60)
+        assert r.returncode == 0, r.stderr
+        out = json.loads(r.stdout)
+        want = images.read_image(source)
+        h, w, c = want.shape
+        assert out["rgba"] and (out["width"], out["height"]) == (w, h)
+        data = np.array(out["data"], dtype=np.float32).reshape(h, w, 4)[::-1]      # three's rows: bottom first
+        assert np.array_equal(data[..., :c], want), source
