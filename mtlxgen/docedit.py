@@ -193,7 +193,7 @@ class _ReaderIndex:
 
 
 _INDEX = {}             # (path, sha256) -> _ReaderIndex of those bytes, the last few
-_INDEX_KEEP = 8
+_INDEX_KEEP = 4
 
 
 def _sha256(data):
@@ -220,11 +220,12 @@ def record_sources(items):
     path names. Sets item.source (the file and the sha256 of those bytes, one SourceFile per file) and
     item.element_path; an item that does not match gets neither (its file changed after the document was
     read): Save refuses it."""
+    from .usdstage import is_usd
     sources = {}
     for item in items:
         item.source, item.element_path = None, None
         loc = item.where or item.node_loc
-        if loc is None or not loc.file or loc.where is not None:
+        if loc is None or not loc.file or loc.where is not None or is_usd(loc.file):
             continue
         if loc.file not in sources:
             sources[loc.file] = _read_source(loc.file)

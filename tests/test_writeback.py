@@ -19,7 +19,7 @@ from mtlxgen import docedit, pipeline, xmlreader
 from mtlxgen.diagnostics import Loc, MtlxError
 
 hypothesis = pytest.importorskip("hypothesis", reason="hypothesis is a test dependency (pip install -e '.[test]')")
-from hypothesis import HealthCheck, given, seed, settings, strategies as st  # noqa: E402
+from hypothesis import HealthCheck, event, given, seed, settings, strategies as st  # noqa: E402
 
 # two images mixed into an unlit surface: 'a' and 'b' both have an input named 'file'
 MIXED = """<?xml version="1.0"{decl}?>
@@ -243,26 +243,25 @@ def test_an_input_not_confirmed_when_listed_is_refused(tmp_path):
 # ------------------------------------------------------------------ generated documents
 
 def panel_inputs(path, extra=()):
-    """{(node, input): PanelInput} of every <input> of every node of a file as the XML reader reads them, plus
-    `extra` (node, input, type) not authored; confirmed by docedit.record_sources as public_inputs does."""
+    """{(owner, input): PanelInput} of every <input> of a file as the XML reader reads them (owner: the node or
+    nodegraph holding it, 'doc' for the document's own), plus `extra` (node, input, type) not authored;
+    confirmed by docedit.record_sources as public_inputs does."""
     root = xmlreader.parse_text(read(path), path)
-    out = {}
-    nodes = {}
-    work = [root]
+    out, owners, work = {}, {}, [root]
     while work:
         el = work.pop()
+        owner = el.get("name") or "doc"
+        owners[owner] = el
         for c in el.children:
-            if c.tag == "nodegraph":
-                work.append(c)
+            if c.tag == "input":
+                out[(owner, c.get("name"))] = docedit.PanelInput(
+                    uniform="%s_%s" % (owner, c.get("name")), node=owner, input=c.get("name"),
+                    mtlx_type=c.get("type"), value=None, where=c.loc, node_loc=None if el is root else el.loc,
+                    tag=el.tag)
             elif c.get("name"):
-                nodes[c.get("name")] = c
-                for i in c.children:
-                    if i.tag == "input":
-                        out[(c.get("name"), i.get("name"))] = docedit.PanelInput(
-                            uniform="%s_%s" % (c.get("name"), i.get("name")), node=c.get("name"), input=i.get("name"),
-                            mtlx_type=i.get("type"), value=None, where=i.loc, node_loc=c.loc, tag=c.tag)
+                work.append(c)
     for node, name, mtlx_type in extra:
-        c = nodes[node]
+        c = owners[node]
         out[(node, name)] = docedit.PanelInput(uniform="%s_%s" % (node, name), node=node, input=name,
                                                mtlx_type=mtlx_type, value=None, node_loc=c.loc, tag=c.tag)
     docedit.record_sources(list(out.values()))
@@ -316,23 +315,10 @@ def documents(draw):
     def attr(name, value, quote):
         return " %s=%s%s%s" % (name, quote, value, quote)
 
-    def node(name, indent):
-        tag = draw(st.sampled_from(TAGS))
-        count = draw(st.integers(0, 3))
-        emit("%s<%s" % (indent, tag) + attr("name", name, draw(st.sampled_from("\"'"))) + ' type="color3"')
-        if count == 0 and draw(st.booleans()):
-            close_at = len(state["text"])
-            emit(draw(st.sampled_from(["/>", " />", "  />"])))
-            nodes[name] = (len(state["text"]), True, close_at, tag)
-            noise()
-            nl()
-            return
-        emit(">")
-        nodes[name] = (len(state["text"]), False, None, tag)
-        noise()
+    def inputs(owner, indent, count):
         for k in range(count):
             nl()
-            emit(indent + "  <input")
+            emit(indent + "<input")
             quote = draw(st.sampled_from("\"'"))
             first = [attr("name", "in%d" % k, quote), attr("type", "filename", quote)]
             if draw(st.booleans()):
@@ -342,12 +328,28 @@ def documents(draw):
                 emit(" value=" + quote)
                 start = len(state["text"])
                 emit(draw(st.text(text_alphabet, max_size=8)))
-                spans[(name, "in%d" % k)] = (start, len(state["text"]), quote)
+                spans[(owner, "in%d" % k)] = (start, len(state["text"]), quote)
                 emit(quote)
             else:
-                spans[(name, "in%d" % k)] = ("add", len(state["text"]))
+                spans[(owner, "in%d" % k)] = ("add", len(state["text"]))
             emit(draw(st.sampled_from([" />", "/>"])))
             noise()
+
+    def node(name, indent):
+        tag = draw(st.sampled_from(TAGS))
+        count = draw(st.integers(0, 3))
+        emit("%s<%s" % (indent, tag) + attr("name", name, draw(st.sampled_from("\"'"))) + ' type="color3"')
+        if count == 0:
+            close_at = len(state["text"])
+            emit(draw(st.sampled_from(["/>", " />", "  />"])))
+            nodes[name] = (len(state["text"]), True, close_at, tag)
+            noise()
+            nl()
+            return
+        emit(">")
+        nodes[name] = (len(state["text"]), False, None, tag)
+        noise()
+        inputs(name, indent + "  ", count)
         nl()
         emit("%s</%s>" % (indent, tag))
         noise()
@@ -359,12 +361,16 @@ def documents(draw):
     noise(top=True)
     nl()
     emit('<materialx version="1.39">')
+    inputs("doc", "  ", draw(st.integers(0, 1)))       # the document's own inputs
     nl()
     count = 0
     for _ in range(draw(st.integers(1, 4))):
         if draw(st.integers(0, 3)) == 0:
-            emit('  <nodegraph name="g%d">' % count)
+            graph = "g%d" % count
+            emit('  <nodegraph name="%s">' % graph)
+            nodes[graph] = (len(state["text"]), False, None, "nodegraph")
             noise()
+            inputs(graph, "    ", draw(st.integers(0, 2)))    # its interface
             nl()
             for _ in range(draw(st.integers(1, 2))):
                 node("n%d" % count, "    ")
@@ -381,7 +387,7 @@ def documents(draw):
 
 
 def _settings(fn):
-    examples = int(os.environ.get("MTLXGEN_FUZZ_EXAMPLES", "60"))
+    examples = int(os.environ.get("MTLXGEN_FUZZ_EXAMPLES", "150"))
     s = settings(max_examples=examples, deadline=None, database=None,
                  derandomize=os.environ.get("MTLXGEN_FUZZ_SEED") is None,
                  suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])(fn)
@@ -435,6 +441,7 @@ def test_generated_documents_keep_every_byte_outside_the_edits(doc, data):
     chosen = data.draw(st.lists(st.sampled_from(targets), min_size=1, max_size=4, unique=True))
     values = {t: "".join(data.draw(st.lists(st.sampled_from(VALUE_CHARS), max_size=6))) for t in chosen}
     scenario = data.draw(st.sampled_from(["save", "save", "save", "outside", "replace fails", "fsync fails"]))
+    event(scenario)
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "doc.mtlx")
         with open(path, "wb") as f:
@@ -486,6 +493,8 @@ def test_generated_documents_keep_every_byte_outside_the_edits(doc, data):
                 regions.append((close_at, end, "open", (lines, tag)))
             else:
                 regions.append((end, end, "insert", (lines, tag)))
+        for region in regions:
+            event("%s (%s)" % (region[2], codec))
         check_result(text, new[len(bom):].decode(codec), sorted(regions, key=lambda r: r[:2]), breaks)
         # and the XML reader reads the values set, every other input as it was
         expected = input_values(old, path)
@@ -500,5 +509,5 @@ def input_values(data, path):
         el, parent = work.pop()
         work.extend((c, el) for c in el.children)
         if el.tag == "input":
-            out[(parent.get("name"), el.get("name"))] = el.get("value")
+            out[(parent.get("name") or "doc", el.get("name"))] = el.get("value")
     return out
