@@ -511,3 +511,27 @@ def input_values(data, path):
         if el.tag == "input":
             out[(parent.get("name") or "doc", el.get("name"))] = el.get("value")
     return out
+
+
+def test_inputs_of_an_included_file_are_written_into_it(tmp_path):
+    """A node from an xi:include'd file: its input's name path is its path in that file, and the edit goes
+    there; an outside change to either file refuses both."""
+    lib = put(tmp_path, b'<?xml version="1.0"?>\n<materialx version="1.39">\n'
+                        b'  <image name="a" type="color3"><input name="file" type="filename" value="a.png" /></image>\n'
+                        b'</materialx>\n', "lib.mtlx")
+    main = mixed().replace('  <image name="a" type="color3"><input name="file" type="filename" value="a.png" />'
+                           '</image>\n', '  <xi:include href="lib.mtlx" />\n')
+    path = put(tmp_path, main.encode())
+    got = listed(path)
+    assert got["a_file"].where == Loc(lib, 3) and got["a_file"].element_path == ("a", "file")
+    assert got["b_file"].source.path == path and got["a_file"].source.path == lib
+    old_lib = read(lib)
+    with open(lib, "ab") as f:
+        f.write(b"<!-- touched -->\n")
+    assert refused([(got["b_file"], "b2.png"), (got["a_file"], "a2.png")]) == [
+        "%s:3: changed on disk since it was read: not saved; reload first" % lib]
+    assert read(path) == main.encode()
+    put(tmp_path, old_lib, "lib.mtlx")
+    assert docedit.save_values([(got["b_file"], "b2.png"), (got["a_file"], "a2.png")]) == [path, lib]
+    assert read(lib) == old_lib.replace(b'"a.png"', b'"a2.png"')
+    assert read(path) == main.replace('"b.png"', '"b2.png"').encode()
