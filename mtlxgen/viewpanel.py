@@ -242,7 +242,8 @@ class Panel:
             return []
         try:
             written = docedit.save_values(edits)
-        except MtlxError as e:          # refused, nothing written: one FILE:LINE line each
+        except MtlxError as e:          # one FILE:LINE line each; a refusal writes nothing (a failed write names
+                                        # the files saved before it)
             lines = e.lines()
             for line in lines:
                 v.say(line)
