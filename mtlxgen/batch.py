@@ -132,7 +132,7 @@ def run_job(job, library_dirs=(), strict=False, options=None):
         item = Item(job.path, name, job.settings, pid=os.getpid(), gl_renderer=gl)
         t1 = time.perf_counter()
         try:
-            shader = session.shader(name)
+            shader = session.drawable(name, session.shader(name))     # an unreadable texture: its default
             t2 = time.perf_counter()
             item.image, gl_times = r.render_timed(shader.vertex, shader.fragment, shader.manifest)
             # drawn, but with problems to report (a USD stage's: a texture not found, its fallback drawn)

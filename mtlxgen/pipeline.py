@@ -52,6 +52,7 @@ class Session:
         self.warnings = warnings if warnings is not None else Warnings()
         self.element_warnings = {}          # element name -> [(Loc, message)] met building it
         self.element_notes = {}             # element name -> [(Loc, message)]: its textures that cannot be read
+        self.unreadable = {}                # element name -> {sampler uniform}: those textures' uniforms
         try:
             self.doc = load_document(path, library_dirs, usd_options)
         except MtlxError as e:          # the document's warnings too, met before its problems
@@ -91,7 +92,9 @@ class Session:
         if self.strict and found:
             raise strict_error(found)
         if self.stage is None:              # a stage's textures are checked as the stage is read (usdstage.py)
-            self.element_notes[name] = texture_notes(g, self.path)
+            found = texture_notes(g, self.path)
+            self.element_notes[name] = [(loc, message) for _, loc, message in found]
+            self.unreadable[name] = {uniform for uniform, _, _ in found}
         return g
 
     def warning_lines(self, name):
@@ -127,6 +130,19 @@ class Session:
             shader.manifest["usd"] = self.stage.manifest(name)
         return shader
 
+    def drawable(self, name, shader):
+        """`shader` as whatever draws it binds it: a texture file that cannot be read (notes()) left out of its
+        manifest, so the image's default is drawn and nothing opens the file (a FIFO, a device)."""
+        self.notes(name)
+        left_out = self.unreadable.get(name)
+        if not left_out:
+            return shader
+        import copy
+        shader = copy.copy(shader)
+        shader.manifest = dict(shader.manifest, textures=[
+            dict(t, file="") if t.get("uniform") in left_out else t for t in shader.manifest.get("textures", ())])
+        return shader
+
     def _may_have_unreadable_textures(self):
         """Whether any filename input the document writes names a file that cannot be read (once per session):
         where none does, an element not built here (kept elements) has no texture notes."""
@@ -160,7 +176,7 @@ class Session:
 
 
 def texture_notes(g, doc_path):
-    """[(Loc, message)] for each texture file of graph `g` (a .mtlx document's) that cannot be read: not found
+    """[(uniform, Loc, message)] for each texture file of graph `g` (a .mtlx document's) that cannot be read: not found
     (with where it was looked for), or not a regular file. The shader is valid all the same (the image node's
     default is drawn), so generate reports them as warnings and everything that draws as problems."""
     from .files import quoted, regular_file_problem
@@ -176,12 +192,12 @@ def texture_notes(g, doc_path):
         if found is None:
             looked = u.value if os.path.isabs(u.value) else os.path.join(
                 os.path.dirname(os.path.abspath(doc_path)), u.value)
-            notes.append((loc, "texture %s not found (looked for %s and in the search paths); the image's "
+            notes.append((u.name, loc, "texture %s not found (looked for %s and in the search paths); the image's "
                                "default is drawn" % (quoted(u.value), looked)))
             continue
         why = regular_file_problem(found)
         if why is not None:
-            notes.append((loc, "texture %s is %s; the image's default is drawn" % (quoted(u.value), why)))
+            notes.append((u.name, loc, "texture %s is %s; the image's default is drawn" % (quoted(u.value), why)))
     return notes
 
 
@@ -232,7 +248,8 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
     note(session.notes())
     for name in session.elements:
         try:
-            shaders.append(session.shader(name))
+            shader = session.shader(name)
+            shaders.append(session.drawable(name, shader) if unreadable_textures == "error" else shader)
         except MtlxError as e:
             problems.extend(e)
         note(session.notes(name))

@@ -172,8 +172,9 @@ class OurGenerator:
             s = self._specialized(session, name, g)
         else:
             s = session.shader(name, graph=g)
+        s = session.drawable(name, s)     # a texture file that cannot be read: its default drawn, the file unopened
         notes = session.notes(name)
-        if notes:                         # drawn all the same (a USD texture not found draws its fallback)
+        if notes:                         # drawn all the same (a texture not found draws its default or fallback)
             s.manifest = dict(s.manifest, notes=["%s: %s" % n for n in notes])
         sources = {}
         for u in g.uniforms.values():
