@@ -434,8 +434,8 @@ def cmd_golden_update(args):
 def cmd_report(args):
     from . import golden, report
     out = args.dir
-    if not os.path.lexists(os.path.join(out, "results.json")):      # a dangling link is refused by report, not
-        # a directory of materials: check it first, into --checks         # taken for a folder of materials
+    if not os.path.lexists(os.path.join(out, "results.json")):
+        # a directory of materials: check it first, into --checks (a dangling results.json: report refuses it)
         warnings = []
         run = golden.check([out], args.goldens or golden.DEFAULT_DIR, args.checks, workers=args.workers,
                            progress=False if args.no_progress else None, library_dirs=args.library,
