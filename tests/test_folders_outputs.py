@@ -130,6 +130,35 @@ def test_golden_update_and_check_report_unreadable_entries_and_fail(tmp_path):
     assert "mats/unlit_checker.mtlx:0: the source of golden %s is a FIFO" % GOLDEN in check.stdout, check.stdout
 
 
+def test_dangling_links_and_loops_alone_are_reported_not_a_crash(tmp_path, monkeypatch, capsys):
+    # (without a FIFO in the folder: dangling entries made batch die of an IndexError, golden of a ValueError)
+    from mtlxgen.cli import main
+    mats = tmp_path / "mats"
+    mats.mkdir()
+    shutil.copy(CHECKER, mats / "unlit_checker.mtlx")
+    os.symlink("nowhere.mtlx", mats / "dangling.mtlx")
+    os.symlink("loop.mtlx", mats / "loop.mtlx")
+    monkeypatch.chdir(tmp_path)
+    assert main(["batch", "mats", "-o", "out", "--size", "8", "-j", "1", "--no-progress"]) == 1
+    assert sorted(capsys.readouterr().err.splitlines()) == [SKIPPED[0], SKIPPED[2]]
+    assert os.listdir("out") == [GOLDEN + ".png"]
+    assert main(["golden", "update", "mats", "--goldens", "g", "--size", "8", "-j", "1", "--no-progress"]) == 1
+    out = [line.strip() for line in capsys.readouterr().out.splitlines()]
+    assert SKIPPED[0] in out and SKIPPED[2] in out and "created   %s" % GOLDEN in out, out
+
+
+@pytest.mark.parametrize("make,why", [(os.mkfifo, "a FIFO"), (lambda p: os.symlink("gone.json", p),
+                                                               "a dangling symbolic link")], ids=["fifo", "dangling"])
+def test_a_golden_index_that_is_not_a_regular_file_is_one_line(tmp_path, make, why):
+    from mtlxgen import golden
+    from mtlxgen.diagnostics import MtlxError
+    from test_security import deadline
+    make(str(tmp_path / "index.json"))
+    with deadline(10), pytest.raises(MtlxError) as e:        # (a FIFO opened for reading blocks)
+        golden.Index(str(tmp_path))
+    assert e.value.lines() == ["%s:1: golden index is %s" % (tmp_path / "index.json", why)]
+
+
 # ---------------------------------------------------------------- outputs replace symbolic links
 
 def test_generate_replaces_symlinks_at_its_outputs_and_gives_ordinary_modes(tmp_path):
