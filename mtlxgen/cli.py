@@ -371,7 +371,7 @@ def _print_check(run, verbose=False):
                                      "" if flip is None else "  FLIP %.5f" % flip))
         for line in r["message"]:
             print("        " + line)
-        if r["status"] == "fail":
+        if r["status"] == "fail" and r["files"]:        # (none where they could not be written: said above)
             print("        " + "  ".join("%s: %s" % (k, rel(os.path.join(run.out_dir, r["files"][k])))
                                         for k in ("new", "golden", "diff") if k in r["files"]))
     for note in run.notes:

@@ -241,8 +241,7 @@ class Index:
         for name in removed:
             goldens.pop(name, None)
         os.makedirs(self.dir, exist_ok=True)
-        write_atomic(self.path, json.dumps({"version": INDEX_VERSION, "goldens": goldens}, indent=1, sort_keys=True)
-                     + "\n")
+        _write(self.path, json.dumps({"version": INDEX_VERSION, "goldens": goldens}, indent=1, sort_keys=True) + "\n")
         self.goldens = goldens
 
 
@@ -410,28 +409,48 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
             _remove_stale(out_dir, t.name)
             results.append(_result(t, index, "pass", (), metrics, it.timings, {}, settings))
             continue
-        write_image(os.path.join(out_dir, files["new"]), to_srgb8(it.image))
-        if golden_exr is not None or is_hdr(it.image):
-            files["new_exr"] = t.name + ".new.exr"
-            write_image(os.path.join(out_dir, files["new_exr"]), it.image)
-        write_atomic(os.path.join(out_dir, files["golden"]),
-                     read_bounded(golden_png, Loc(golden_png, 0), "golden image", MAX_BYTES["image"]))
-        if d is not None:
-            write_image(os.path.join(out_dir, files["diff"]), heat_map(d, golden8, tol.threshold))
-        else:
-            files.pop("diff")
-        if flip_heat is not None:
-            files["flip"] = t.name + ".flip.png"
-            write_image(os.path.join(out_dir, files["flip"]), flip_heat)
+        try:
+            _write_image(os.path.join(out_dir, files["new"]), to_srgb8(it.image))
+            if golden_exr is not None or is_hdr(it.image):
+                files["new_exr"] = t.name + ".new.exr"
+                _write_image(os.path.join(out_dir, files["new_exr"]), it.image)
+            _write(os.path.join(out_dir, files["golden"]),
+                   read_bounded(golden_png, Loc(golden_png, 0), "golden image", MAX_BYTES["image"]))
+            if d is not None:
+                _write_image(os.path.join(out_dir, files["diff"]), heat_map(d, golden8, tol.threshold))
+            else:
+                files.pop("diff")
+            if flip_heat is not None:
+                files["flip"] = t.name + ".flip.png"
+                _write_image(os.path.join(out_dir, files["flip"]), flip_heat)
+        except MtlxError as e:          # its images could not be written: a failure all the same, said why
+            results.append(_result(t, index, "fail", message + why + e.lines(), metrics, it.timings, {}, settings))
+            continue
         results.append(_result(t, index, "fail", message + why, metrics, it.timings, files, settings))
     for new_gl, old_gl in sorted(renderers):
         notes.append("goldens were made with the GL renderer '%s', this run used '%s': small differences "
                      "are expected across drivers" % (old_gl, new_gl))
     run = CheckRun(results, os.path.abspath(out_dir), notes)
-    write_atomic(os.path.join(out_dir, "results.json"),
-                 json.dumps({"golden_dir": index.dir, "tolerance": asdict(tolerance), "notes": notes,
-                             "results": results}, indent=1, sort_keys=True) + "\n")
+    _write(os.path.join(out_dir, "results.json"),
+           json.dumps({"golden_dir": index.dir, "tolerance": asdict(tolerance), "notes": notes,
+                       "results": results}, indent=1, sort_keys=True) + "\n")
     return run
+
+
+def _write(path, data):
+    """files.write_atomic; the file system's refusal (a folder at the path, no space left) one line naming path."""
+    try:
+        return write_atomic(path, data)
+    except OSError as e:
+        raise MtlxError((Loc(path, 0), "cannot write: %s" % (e.strerror or e))) from None
+
+
+def _write_image(path, img):
+    """images.write_image (a temporary file and a rename), its file system's refusal one line naming path."""
+    try:
+        return write_image(path, img)
+    except OSError as e:
+        raise MtlxError((Loc(path, 0), "cannot write image: %s" % (e.strerror or e))) from None
 
 
 def _collect_warnings(items, warnings):
@@ -502,11 +521,16 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
         if same:
             out.append((t.name, "unchanged", []))
             continue
-        write_image(png, img8)
-        if entry["exr"]:
-            write_image(exr, it.image)
-        elif os.path.lexists(exr):
-            os.remove(exr)
+        try:
+            _write_image(png, img8)
+            if entry["exr"]:
+                _write_image(exr, it.image)
+            elif os.path.lexists(exr):
+                os.remove(exr)
+        except (MtlxError, OSError) as e:     # (this golden is not written: its entry stays as it was)
+            out.append((t.name, "error", e.lines() if isinstance(e, MtlxError) else
+                        ["%s:0: cannot remove the old linear golden: %s" % (exr, e.strerror or e)]))
+            continue
         changed[t.name] = entry
         out.append((t.name, "updated" if t.entry else "created", ["%s" % os.path.relpath(png)]))
     if changed:

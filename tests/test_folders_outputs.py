@@ -214,6 +214,27 @@ def test_golden_outputs_replace_symlinks_and_the_index_keeps_ordinary_modes(tmp_
     assert (out / (GOLDEN + ".golden.png")).read_bytes() == (g / (GOLDEN + ".png")).read_bytes()
 
 
+def test_golden_outputs_the_file_system_refuses_are_named_not_their_temporary_files(tmp_path):
+    (tmp_path / "m").mkdir()
+    shutil.copy(CHECKER, tmp_path / "m" / "unlit_checker.mtlx")
+    (tmp_path / "g" / (GOLDEN + ".png")).mkdir(parents=True)          # a folder where the golden goes
+    proc = run_cli("golden", "update", "m", "--goldens", "g", "--size", "8", "-j", "1", "--no-progress", cwd=tmp_path)
+    no_crash(proc)
+    assert proc.returncode == 1 and ".tmp" not in proc.stdout + proc.stderr, proc.stdout + proc.stderr
+    assert "g/%s.png:0: cannot write image: Is a directory" % GOLDEN in proc.stdout, proc.stdout
+    assert not os.path.exists(tmp_path / "g" / "index.json")          # nothing recorded for it
+
+    os.rmdir(tmp_path / "g" / (GOLDEN + ".png"))
+    assert run_cli("golden", "update", "m", "--goldens", "g", "--size", "8", "-j", "1", "--no-progress",
+                   cwd=tmp_path).returncode == 0
+    (tmp_path / "out" / "results.json").mkdir(parents=True)
+    proc = run_cli("golden", "check", "m", "--goldens", "g", "-o", "out", "-j", "1", "--no-progress", "--no-flip",
+                   cwd=tmp_path)
+    no_crash(proc)
+    assert proc.returncode == 1
+    assert proc.stderr.splitlines() == ["out/results.json:0: cannot write: Is a directory"], proc.stderr
+
+
 def test_glslvalidate_replaces_a_symlink_at_its_stage_file(tmp_path):
     from mtlxgen import glslvalidate, pipeline
     if not glslvalidate.GLSLANG:
