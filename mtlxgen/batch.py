@@ -165,7 +165,7 @@ def find_materials(paths, problems=None):
 
     def readable(path):
         why = regular_file_problem(path, "usd" if is_usd(path) else "text")
-        if why is not None:
+        if why is not None and (Loc(path, 0), "skipped: %s" % why) not in skipped:    # (named twice: said once)
             skipped.append((Loc(path, 0), "skipped: %s" % why))
         return why is None
 

@@ -1086,8 +1086,8 @@ class Viewer:
         picture would pass for a render."""
         from .images import write_image
         if self.loaded.get(self.element) is None:
-            if not self.problems:       # (problems are on the terminal and in the title already)
-                self.say("%s:0: no screenshot: nothing is drawn" % self.display_path)
+            self.say("%s:0: no screenshot: nothing is drawn%s" % (self.display_path, " (the document has problems)"
+                                                                  if self.problems else ""))
             return []
         if path is None:
             loaded = self.loaded.get(self.element)
@@ -1374,11 +1374,13 @@ def run(args):
             frames += 1
             if headless and frames >= args.headless_frames:
                 break
+        # pictures only of what was drawn (a black one would pass for a render); the problems that stopped the
+        # drawing are said already, one line each
         drawn = viewer.loaded.get(viewer.element) is not None
-        if args.screenshot:
+        if drawn and args.screenshot:
             for p in viewer.screenshot(args.screenshot):
                 print(p)
-        if args.capture_window and drawn:       # (nothing drawn: no picture of it; the problems are said)
+        if drawn and args.capture_window:
             print(capture(window, args.capture_window))
         if headless and viewer.problems:
             raise MtlxError([])

@@ -284,6 +284,26 @@ def test_view_screenshot_of_a_document_that_draws_nothing_is_not_written(tmp_pat
     assert not [n for n in os.listdir(tmp_path) if n.startswith(("shot", "window"))]
 
 
+def test_screenshot_key_in_the_window_says_why_nothing_is_written(tmp_path):
+    import io
+    from mtlxgen.view import OffscreenWindow, Viewer, handle_key
+    path = write_doc(tmp_path, '<nosuchnode name="n" type="color3" />\n'
+                               '<output name="o" type="color3" nodename="n" />', name="broken.mtlx")
+    window, log = OffscreenWindow((8, 8)), io.StringIO()
+    v = Viewer(window.ctx, path, size=(8, 8), samples=1, frame_samples=1, output_dir=str(tmp_path / "shots"),
+               watch=False, out=log)
+    try:
+        v.frame(window.screen)
+        handle_key(v, "c")
+    finally:
+        v.close()
+        window.close()
+    lines = log.getvalue().splitlines()
+    assert len(lines) == 2 and "unknown node category 'nosuchnode'" in lines[0], lines      # the problem, shown
+    assert lines[1] == "%s:0: no screenshot: nothing is drawn (the document has problems)" % path
+    assert not os.path.exists(tmp_path / "shots")
+
+
 # ---------------------------------------------------------------- value="" of a struct type
 
 def struct_doc(tmp_path, members, nodedef_value='', node_input=''):
