@@ -295,42 +295,55 @@ def _finish(tmp, path, mode):
         os.close(dfd)
 
 
+def _named(error, path):
+    """An OSError of a write about `path` (not the temporary file beside it), so its line names the output."""
+    if isinstance(error, OSError) and error.filename is not None and error.filename != path:
+        return OSError(error.errno, error.strerror or str(error), path)
+    return error
+
+
 def write_atomic(path, data, mode=None):
     """Write `data` (bytes, or str as UTF-8) to `path` all at once: a temporary file beside it, fsync, rename.
     A crash leaves the old file whole; a symlink at `path` is replaced by the file, never followed. `mode`:
     permission bits; default: the replaced regular file's, else 0666 less the umask."""
     if isinstance(data, str):
         data = data.encode("utf-8")
-    fd, tmp = _temp_beside(path)
+    try:
+        fd, tmp = _temp_beside(path)
+    except OSError as e:
+        raise _named(e, path) from None
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
             f.flush()
             os.fsync(f.fileno())
         _finish(tmp, path, mode)
-    except BaseException:
+    except BaseException as e:
         try:
             os.unlink(tmp)
         except OSError:
             pass
-        raise
+        raise _named(e, path) from None
     return path
 
 
 def write_through_temp(path, writer, mode=None):
     """Like write_atomic for a library that writes files itself (OpenImageIO): writer(temp path) writes a file
     whose name ends as `path` does (the format follows the extension); then it is renamed over `path`."""
-    fd, tmp = _temp_beside(path, suffix=".tmp" + os.path.splitext(path)[1])
+    try:
+        fd, tmp = _temp_beside(path, suffix=".tmp" + os.path.splitext(path)[1])
+    except OSError as e:
+        raise _named(e, path) from None
     os.close(fd)
     try:
         writer(tmp)
         with open(tmp, "rb") as f:
             os.fsync(f.fileno())
         _finish(tmp, path, mode)
-    except BaseException:
+    except BaseException as e:
         try:
             os.unlink(tmp)
         except OSError:
             pass
-        raise
+        raise _named(e, path) from None
     return path

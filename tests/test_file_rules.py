@@ -109,3 +109,14 @@ def test_write_through_temp_for_libraries_that_write_files(tmp_path):
     assert target.read_bytes() == b"not to be overwritten"
     assert read_image(str(tmp_path / "out.png")).shape == (2, 2, 3)
     assert sorted(os.listdir(tmp_path)) == ["out.png", "secret.png"]
+
+
+def test_a_refused_write_names_the_output_not_the_temporary_file(tmp_path):
+    (tmp_path / "M.frag").mkdir()                   # a folder where the file goes: the rename is refused
+    with pytest.raises(OSError) as e:
+        files.write_atomic(str(tmp_path / "M.frag"), "x")
+    assert e.value.filename == str(tmp_path / "M.frag")
+    with pytest.raises(OSError) as e:
+        files.write_atomic(str(tmp_path / "missing" / "M.frag"), "x")
+    assert e.value.filename == str(tmp_path / "missing" / "M.frag")
+    assert sorted(os.listdir(tmp_path)) == ["M.frag"]
