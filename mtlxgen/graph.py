@@ -301,7 +301,10 @@ class GraphBuilder:
         return _Scope(g.nodes, g.name + "/", interface, True, g, self.doc_scope, g.loc)
 
     def public_value(self, owner, port, declared):
-        """An unconnected input at document level: a public uniform initialised with its value."""
+        """An unconnected input at document level: a public uniform initialised with its value (one that does not
+        parse is the input's problem, as for a node's input)."""
+        if port.error:
+            raise MtlxError((port.loc, port.error))
         self.note_value(port if port.value is not None or port.warning else declared)   # value="": its warning
         value = port.value if port.value is not None else declared.value
         if value is None:

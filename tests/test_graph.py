@@ -226,3 +226,19 @@ def test_library_option_adds_definitions(tmp_path):
     with_lib = subprocess.run(cli + ["--library", str(libdir)], capture_output=True, text=True)
     assert with_lib.returncode == 0, with_lib.stderr
     assert "* 0.5" in (tmp_path / "o" / "g_out.frag").read_text()
+
+
+def test_a_nodegraph_inputs_malformed_value_is_its_problem(tmp_path, library):
+    """A nodegraph's own interface input whose value does not parse is reported at its line, as a node's input is
+    (it was read as 0.0 without a word)."""
+    with pytest.raises(MtlxError) as e:
+        build(tmp_path, """
+  <nodegraph name="NG">
+    <input name="amount" type="float" value="abc" />
+    <multiply name="m" type="float">
+      <input name="in1" type="float" interfacename="amount" />
+      <input name="in2" type="float" value="2" />
+    </multiply>
+    <output name="out" type="float" nodename="m" />
+  </nodegraph>""", "NG/out", library)
+    assert e.value.lines() == ["%s:5: input 'amount' of type float: not a number: 'abc'" % (tmp_path / "doc.mtlx")]
