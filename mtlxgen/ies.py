@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
-from .files import read_bounded
+from .files import check_regular, read_bounded
 
 WIDTH, HEIGHT = 64, 91          # texture: horizontal x vertical samples
 
@@ -52,7 +52,9 @@ def _tokens(lines, first_line):
 
 
 def parse(path):
-    # regular files only, size capped (a document names the profile: it may point at /dev/zero)
+    # regular files only, size capped on the file's size before reading (a document names the profile: it may
+    # point at /dev/zero, a FIFO or a huge sparse file)
+    check_regular(path, Loc(path, 0), "IES file", "text")
     lines = read_bounded(path, Loc(path, 0), "IES file").decode("latin-1").splitlines()
     if not lines:
         raise MtlxError((Loc(path, 1), "empty IES file"))

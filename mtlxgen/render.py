@@ -3,8 +3,13 @@
 Scene (fixed, deterministic): unit sphere at the origin with positions, normals, tangents,
 bitangents and texcoords; camera at (0, 0, 3) looking at the origin, 45 degree vertical fov; a
 built-in HDR sky (or any HDR/EXR file) bound as u_envRadiance with a full mip chain and its
-irradiance (order-2 spherical harmonics, computed with numpy) as u_envIrradiance. Rendering is
-into a float framebuffer; the result is linear RGBA with row 0 at the top.
+irradiance (order-2 spherical harmonics, projected with numpy a band of rows at a time) as u_envIrradiance.
+Rendering is into a float framebuffer; the result is linear RGBA with row 0 at the top.
+
+Texture and environment files are read through images.read_image: at most 4 channels, as 32-bit floats of at
+most images.MAX_DECODED_BYTES (a larger image, such as a 16384 x 8192 map, is box-filtered down by a power of
+two as it is read) and handed to GL without another copy. A texture file that is missing draws the sampler's
+default; one that is there but cannot be bound (not a regular file, not an image, damaged) is an error.
 """
 import os
 import time
@@ -13,6 +18,8 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from .diagnostics import Loc, MtlxError
+from .files import check_regular
 from .glcontext import create_context  # noqa: F401  (render.create_context for callers)
 from .images import read_image, write_image  # noqa: F401  (re-exported for the CLI)
 
@@ -146,12 +153,39 @@ def _sh9(d):
                      0.546274 * (x * x - y * y)], -1)
 
 
+SH_BAND_ROWS = 256      # rows of the map projected at a time (float64 copies of at most 256 rows)
+
+
+def sh9_projection(env):
+    """The order-2 spherical-harmonic coefficients (9 x 3, float64) of a lat-long radiance map: the sum over texels
+    of radiance x basis x solid angle. The basis is separable on the map: with x = cos(el) sin(az), y = sin(el),
+    z = -cos(el) cos(az), every function is a product of one of six azimuthal factors (1, cos, sin, cos^2, sin cos,
+    sin^2) and an elevation factor, so each row's radiance is summed against the six (one matrix product per band
+    of rows) and the rows then weighted by their elevation factors and solid angles: time and memory grow with
+    the map, never as a per-texel table of the basis."""
+    h, w = env.shape[:2]
+    el = (0.5 - (np.arange(h) + 0.5) / h) * np.pi
+    az = ((np.arange(w) + 0.5) / w - 0.5) * 2.0 * np.pi
+    ca, sa = np.cos(az), np.sin(az)
+    factors = np.stack([np.ones_like(az), ca, sa, ca * ca, sa * ca, sa * sa])         # (6, w)
+    ce, se = np.cos(el), np.sin(el)
+    weight = ce * (np.pi / h) * (2.0 * np.pi / w)                                      # solid angle of a row's texels
+    coeffs = np.zeros((9, 3))
+    for r0 in range(0, h, SH_BAND_ROWS):
+        r1 = min(h, r0 + SH_BAND_ROWS)
+        m = np.matmul(factors, env[r0:r1, :, :3].astype(np.float64)) * weight[r0:r1, None, None]  # (rows, 6, 3)
+        one, cos_, sin_, cos2, sincos, sin2 = (m[:, j] for j in range(6))
+        c, s = ce[r0:r1, None], se[r0:r1, None]
+        coeffs += np.stack([0.282095 * one, 0.488603 * s * one, -0.488603 * c * cos_, 0.488603 * c * sin_,
+                            1.092548 * c * s * sin_, -1.092548 * s * c * cos_, 0.315392 * (3 * c * c * cos2 - one),
+                            -1.092548 * c * c * sincos, 0.546274 * (c * c * sin2 - s * s * one)], 1).sum(0)
+    return coeffs
+
+
 def irradiance_map(env, width=128, height=64):
     """Irradiance E(n)/pi of a lat-long radiance map, from its order-2 spherical-harmonic projection
     (Ramamoorthi & Hanrahan 2001, "An Efficient Representation for Irradiance Environment Maps")."""
-    h, w = env.shape[:2]
-    d, sa = _latlong_directions(w, h)
-    coeffs = np.einsum("hwk,hwc,hw->kc", _sh9(d), env[..., :3].astype(np.float64), sa)
+    coeffs = sh9_projection(env)
     band = np.array([np.pi, 2 * np.pi / 3, 2 * np.pi / 3, 2 * np.pi / 3, np.pi / 4, np.pi / 4, np.pi / 4,
                      np.pi / 4, np.pi / 4])
     dn, _ = _latlong_directions(width, height)
@@ -159,11 +193,14 @@ def irradiance_map(env, width=128, height=64):
     return np.clip(irr, 0.0, None).astype(np.float32)
 
 
-def load_environment(path):
-    img = read_image(path)
+def load_environment(path, loc=None):
+    """A lat-long environment file as float32 RGB (rows top first). Any regular image file within the size caps
+    (images.py); one whose decoded floats would pass images.MAX_DECODED_BYTES (a 16384 x 8192 map) is box-filtered
+    down by a power of two as it is read. Problems: one line at `loc` (default: the file)."""
+    img = read_image(path, loc, "environment file", reduce=True)
     if img.shape[2] == 1:
         img = np.repeat(img, 3, axis=2)
-    return img[..., :3]
+    return img[..., :3] if img.shape[2] > 3 else img
 
 
 # the lat-long frame of interface.md: x and z negated (the same as the shaders' default u_envMatrix)
@@ -188,14 +225,15 @@ SCOREBOARD_SCENE = Scene(sky=scoreboard_sky, sh_irradiance=False, env_matrix=Non
                          associated_alpha=True, ies_profiles=False)
 
 
-def _read_associated(path):
-    """A texture file as OpenImageIO reads it unless told otherwise: alpha associated (the scoreboard's loader)."""
-    import OpenImageIO as oiio
-    buf = oiio.ImageBuf(path)
-    pixels = None if buf.has_error else buf.get_pixels(oiio.FLOAT)
-    if pixels is None:
-        raise OSError("cannot read image %s: %s" % (path, buf.geterror().strip()))
-    return np.asarray(pixels, dtype=np.float32).reshape(buf.spec().height, buf.spec().width, -1)
+def _flip_rows(img, chunk=256):
+    """Reverse the rows of an array in place, `chunk` rows at a time (img[::-1] would copy all of it)."""
+    h = img.shape[0]
+    for i in range(0, h // 2, chunk):
+        j = min(i + chunk, h // 2)
+        top = img[i:j].copy()
+        img[i:j] = img[h - j:h - i][::-1]
+        img[h - j:h - i] = top[::-1]
+    return img
 
 
 _SAMPLER_TYPES = {0x8B5D, 0x8B5E, 0x8B5F, 0x8B60}      # GL_SAMPLER_1D, _2D, _3D, _CUBE
@@ -433,8 +471,15 @@ class Renderer:
 
     def _float_texture(self, img, mipmaps, top_first=False):
         """Image textures go up bottom row first (uv (0, 0) = lower-left corner); lat-long maps top first."""
-        img = np.ascontiguousarray(img if top_first else img[::-1], dtype="f4")
-        t = self.ctx.texture((img.shape[1], img.shape[0]), img.shape[2], img.tobytes(), dtype="f4")
+        return self._texture_of([np.ascontiguousarray(img if top_first else img[::-1], dtype="f4")], mipmaps)
+
+    def _texture_of(self, held, mipmaps):
+        """A float texture of the one contiguous float32 array in `held`, rows as they are. GL reads the array's
+        own memory (no bytes copy); `held` is emptied once GL has its copy, so that where the caller kept no other
+        reference the array is freed before the mip chain is built (Mesa builds it beside a copy of level 0)."""
+        img = held.pop()
+        t = self.ctx.texture((img.shape[1], img.shape[0]), img.shape[2], memoryview(img), dtype="f4")
+        del img
         if mipmaps:
             t.build_mipmaps()
             t.filter = (self.mgl.LINEAR_MIPMAP_LINEAR, self.mgl.LINEAR)
@@ -443,22 +488,33 @@ class Renderer:
         return t
 
     def image_texture(self, path):
+        """The texture of an image file a sampler names; None where there is no such file (its default is drawn).
+        A file that is there but cannot be bound (not a regular file, over a size cap, not an image, damaged
+        pixels) is an error: MtlxError, one line naming it, raised again at every later bind."""
         if path not in self._image_cache:
-            if os.path.exists(path):     # a missing file draws the default; a device or /proc file is an error
-                from .diagnostics import Loc
-                from .files import check_regular
-                check_regular(path, Loc(path, 0), "image file")
             try:
-                if path.lower().endswith(".ies") and self.scene.ies_profiles:   # measured_edf's profile (ies.py)
-                    from .ies import load_texture
-                    self._image_cache[path] = self._float_texture(load_texture(path), mipmaps=False, top_first=True)
-                elif self.scene.associated_alpha:
-                    self._image_cache[path] = self._float_texture(_read_associated(path), mipmaps=True)
-                else:
-                    self._image_cache[path] = self._float_texture(read_image(path), mipmaps=True)
-            except Exception:
-                self._image_cache[path] = None
-        return self._image_cache[path]
+                self._image_cache[path] = self._load_texture(path)
+            except MtlxError as e:
+                self._image_cache[path] = e
+        t = self._image_cache[path]
+        if isinstance(t, MtlxError):
+            raise MtlxError(t.problems)
+        return t
+
+    def _load_texture(self, path):
+        if not os.path.lexists(path):
+            return None
+        if path.lower().endswith(".ies"):
+            if not self.scene.ies_profiles:     # the scoreboard's harness has no IES reader: its default is drawn
+                check_regular(path, Loc(path, 0), "image file")
+                return None
+            from .ies import load_texture       # measured_edf's profile (ies.py)
+            return self._float_texture(load_texture(path), mipmaps=False, top_first=True)
+        # decoded band by band into at most images.MAX_DECODED_BYTES (a larger image is box-filtered down as it
+        # is read), turned bottom row first in place, and handed to GL without a copy
+        held = [read_image(path, reduce=True, associated=self.scene.associated_alpha)]
+        _flip_rows(held[0])
+        return self._texture_of(held, mipmaps=True)
 
     def forget_texture(self, path):
         """Drop a file's texture (it changed on disk): the next draw that binds it reads it again."""
@@ -570,7 +626,6 @@ class Renderer:
             prepared.set(name, value)
         lights = self.lights if lights is None else lights
         if lights and prepared.manifest.get("max_lights", len(lights)) < len(lights):
-            from .diagnostics import Loc, MtlxError
             raise MtlxError((Loc(prepared.manifest.get("element", "shader"), 0),
                              "generated for %d direct lights, %d bound: generate it with max_lights=%d "
                              "(--max-lights, or render --lights RIG)" % (prepared.manifest["max_lights"], len(lights),
