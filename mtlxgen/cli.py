@@ -460,7 +460,7 @@ def cmd_batch(args):
                               progress=False if args.no_progress else None, library_dirs=args.library,
                               strict=args.strict, options=_session_options(args))
     _print_warnings(line for it in items for line in it.warnings)
-    status, printed = (1 if skipped else 0), set()
+    status, printed, written = (1 if skipped else 0), set(), {}
     for it in items:
         for line in it.error:           # failures, and problems of elements still drawn (USD: missing textures)
             status = 1
@@ -472,6 +472,11 @@ def cmd_batch(args):
             continue
         from .golden import golden_name
         out = os.path.join(args.output, golden_name(it.path, it.element) + ".png")
+        if written.setdefault(out, it.path) != it.path:       # a/x.mtlx and b/x.mtlx: never one over the other
+            status = 1
+            print("%s:1: image %s is also drawn from %s; not written (rename one of the files)"
+                  % (it.path, os.path.basename(out), written[out]), file=sys.stderr)
+            continue
         try:                            # one image that cannot be written: said, and the others written
             images.write_image(out, it.image)
         except MtlxError as e:

@@ -409,3 +409,23 @@ def test_generate_into_an_output_that_cannot_take_the_files_is_one_line(tmp_path
     assert len(lines) == 1 and named in lines[0], lines
     if kind == "a folder at an output file":
         assert not [n for n in os.listdir(out) if n.startswith(".")]          # no temporary file left behind
+
+
+def test_batch_never_writes_one_documents_image_over_anothers(tmp_path):
+    """a/x.mtlx and b/x.mtlx make the same image name: the second is refused with one line naming both."""
+    doc = ('<?xml version="1.0"?>\n<materialx version="1.39">\n  <constant name="c" type="color3">\n'
+           '    <input name="value" type="color3" value="%s" />\n  </constant>\n'
+           '  <output name="out" type="color3" nodename="c" />\n</materialx>\n')
+    for sub, colour in (("a", "1, 0, 0"), ("b", "0, 0, 1")):
+        (tmp_path / sub).mkdir()
+        (tmp_path / sub / "x.mtlx").write_text(doc % colour)
+    proc = subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), "batch", str(tmp_path / "a"),
+                           str(tmp_path / "b"), "-o", str(tmp_path / "out"), "-j", "1", "--size", "8",
+                           "--no-progress"], capture_output=True, text=True, timeout=240)
+    assert proc.returncode == 1 and "Traceback" not in proc.stderr
+    err = proc.stderr.splitlines()
+    assert err == ["%s:1: image x__out.png is also drawn from %s; not written (rename one of the files)"
+                   % (tmp_path / "b" / "x.mtlx", tmp_path / "a" / "x.mtlx")], err
+    from mtlxgen.images import read_image
+    centre = read_image(str(tmp_path / "out" / "x__out.png"))[4, 4]
+    assert centre[0] > 0.5 and centre[2] < 0.1, centre          # a's red on the sphere, not b's blue
