@@ -10,7 +10,10 @@ primvars its materials' primvar readers (float, float2, float3, float4, int) and
 name are bound as the vertex attributes the shaders read (the manifest's "attributes" and "primvars"), any
 interpolation on a mesh, constant ones on an implicit Sphere or Cube, so readers of two texture coordinate sets
 each read their own; a reader whose primvar the mesh lacks draws the texcoord stream (float2) or its fallback. Meshes without a material draw a grey UsdPreviewSurface in their constant `displayColor`. Subdivision surfaces are
-drawn as their control cage. A stage whose up axis is Z is turned to Y up (the lighting's up) with its camera.
+drawn as their control cage. A mesh whose data do not make triangles (face vertex indices out of range, counts
+that do not add up to them, points that are not finite numbers) is not drawn and is a problem naming it; an empty
+one (no points or faces) draws nothing, and is named only where nothing at all is drawn. A stage whose up axis is
+Z is turned to Y up (the lighting's up) with its camera.
 The camera is the first UsdGeomCamera on the stage; without one, a camera at (0, 0.3, 1) from the centre of
 the meshes' bounds, far enough for a 45 degree view to hold them. The output is square: a camera's aperture
 is fitted inside it (the wider of its two fields of view on both axes).
@@ -65,14 +68,14 @@ def read_view(path, library_dirs=(), options=None):
     doc = usdstage.load(path, library_dirs, options)
     info = doc.usd
     with usdstage._quiet_stderr():
-        stage = usdstage._open(path)
+        stage, layers = usdstage._open(path)       # layers: held while the stage is read
         if info.options.variants:
             usdstage.select_variants(stage, path, info.options.variants)
         time = _time(stage)
         z_up = UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.z
         up = _Z_UP if z_up else np.eye(4)
         cache = UsdGeom.XformCache(time)
-        meshes, problems, corners = [], [], 0
+        meshes, problems, skipped, empty, corners = [], [], [], [], 0
         camera = None
         for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
             img = UsdGeom.Imageable(prim)
@@ -86,19 +89,18 @@ def read_view(path, library_dirs=(), options=None):
             if img.ComputePurpose() not in (UsdGeom.Tokens.default_, UsdGeom.Tokens.render):
                 continue
             try:
-                draw = _mesh(prim, info, time, problems)
-            except _Skip as e:
-                problems.append((Loc(path, where=str(prim.GetPath())), "mesh not drawn: %s" % e))
-                continue
-            if draw is None:
+                draw = _mesh(prim, info, time, problems, MAX_CORNERS - corners)
+            except _Skip as e:      # an empty mesh draws nothing, rightly: said only where nothing is drawn
+                (empty if e.empty else skipped).append((Loc(path, where=str(prim.GetPath())), "mesh not drawn: %s" % e))
                 continue
             corners += len(draw.attrs["i_position"])
             if corners > MAX_CORNERS:
                 raise MtlxError((Loc(path, 0), "the stage's meshes have more than %d face corners" % MAX_CORNERS))
             draw.world = up @ np.array(cache.GetLocalToWorldTransform(prim), dtype=np.float64).T
             meshes.append(draw)
-        if not meshes:
-            raise MtlxError((Loc(path, 0), "--geometry stage: no visible UsdGeomMesh on the stage"))
+        if not meshes:      # the meshes there are, each with what is wrong with it; else that there is none
+            raise MtlxError(skipped + empty or [(Loc(path, 0), "--geometry stage: no visible UsdGeomMesh on the stage")])
+        problems = skipped + problems
         if camera is not None:
             view, projection, eye = _camera(camera, time, up)
             name = str(camera.GetPath())
@@ -109,7 +111,11 @@ def read_view(path, library_dirs=(), options=None):
 
 
 class _Skip(Exception):
-    pass
+    """A mesh that is not drawn, and why; `empty`: it has nothing to draw (no points or faces), not an error."""
+
+    def __init__(self, why, empty=False):
+        super().__init__(why)
+        self.empty = empty
 
 
 def _expand(values, interpolation, idx, face_of_corner, what):
@@ -167,7 +173,8 @@ def _implicit(prim, time):
     return np.array(P), np.array(N), np.array(UV, dtype=np.float64), np.array(tris)
 
 
-def _mesh(prim, info, time, problems):
+def _mesh(prim, info, time, problems, corners_left=MAX_CORNERS):
+    """The MeshDraw of a Mesh, Sphere or Cube prim; _Skip saying what is wrong where it cannot be drawn."""
     from pxr import UsdGeom
     if not prim.IsA(UsdGeom.Mesh):
         P, N, UV, tris = _implicit(prim, time)
@@ -179,15 +186,26 @@ def _mesh(prim, info, time, problems):
     points = mesh.GetPointsAttr().Get(time)
     counts = mesh.GetFaceVertexCountsAttr().Get(time)
     indices = mesh.GetFaceVertexIndicesAttr().Get(time)
-    if points is None or counts is None or indices is None or len(points) == 0 or len(counts) == 0:
-        return None
+    for name, value in (("points", points), ("faceVertexCounts", counts), ("faceVertexIndices", indices)):
+        if value is None or len(value) == 0:
+            raise _Skip("it has no %s" % name, empty=True)
+    if len(indices) > corners_left:
+        raise MtlxError((Loc(info.path, where=str(prim.GetPath())), "the stage's meshes have more than %d face "
+                                                                    "corners" % MAX_CORNERS))
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     counts = np.asarray(counts, dtype=np.int64)
     idx = np.asarray(indices, dtype=np.int64)
-    if counts.sum() != len(idx) or (counts < 0).any():
+    if not np.isfinite(pts).all():
+        raise _Skip("its points are not all finite numbers")
+    if (counts < 0).any():
+        raise _Skip("faceVertexCounts holds a negative count")
+    if counts.sum() != len(idx):
         raise _Skip("faceVertexCounts sum to %d, faceVertexIndices has %d" % (counts.sum(), len(idx)))
-    if len(idx) and (idx.min() < 0 or idx.max() >= len(pts)):
-        raise _Skip("faceVertexIndices name points that do not exist")
+    if idx.min() < 0 or idx.max() >= len(pts):
+        raise _Skip("faceVertexIndices out of range: %d is not one of its %d points"
+                    % (idx.min() if idx.min() < 0 else idx.max(), len(pts)))
+    if not (counts >= 3).any():
+        raise _Skip("it has no face of three or more vertices")
     faces = len(counts)
     face_of_corner = np.repeat(np.arange(faces), counts)
     starts = np.cumsum(counts) - counts

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 from . import mxtypes
 from .diagnostics import Loc, MtlxError
 from .document import Document, Node, NodeGraph, Port
+from .files import check_regular, quoted, regular_file_problem
 
 USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
 RENDER_CONTEXTS = ("mtlx", "universal")
@@ -125,9 +126,10 @@ def load(path, library_dirs=(), options=None):
     from .library import load_library
     library = load_library(tuple(library_dirs))
     with _quiet_stderr():
-        stage = _open(path)
+        stage, layers = _open(path)
         reader = _StageReader(stage, path, library, library_dirs, options)
         reader.read()
+        del layers          # held until the variant selections and asset reads are done
     doc = reader.doc
     if not doc.usd.materials:
         problems = doc.usd.problems + [(Loc(path, 0), "nothing to render: no UsdShadeMaterial on the stage")]
@@ -142,17 +144,15 @@ def scene_files(paths):
     cannot open is kept: drawing it says why. Without usd-core every file is kept (each then says so)."""
     paths = list(paths)
     try:
-        from pxr import Usd
+        from pxr import Usd  # noqa: F401
     except ImportError:
         return paths
     used, keep = set(), {}
     with _quiet_stderr():
         for p in paths:
             try:
-                stage = Usd.Stage.Open(os.path.abspath(p), Usd.Stage.LoadAll)
-            except Exception:       # Tf.ErrorException: unparsable
-                stage = None
-            if stage is None:
+                stage, _ = _open(p)     # every layer checked first: a FIFO among them is refused, not waited on
+            except MtlxError:           # unparsable, or not a regular file: drawing it says why
                 keep[p] = True
                 continue
             own = os.path.realpath(p)
@@ -211,15 +211,225 @@ def _tf_message(e):
     return " ".join(text.split())
 
 
+MAX_LAYERS = 10000              # layers one stage composes (sublayers, references, payloads, value clips)
+MAX_TEMPLATE_CLIPS = 10000      # value clips a clip template may name
+
+
 def _open(path):
+    """(stage, layers): the composed stage of the USD file at `path`, and the layers it composes, opened one at a
+    time after their files were checked (held: the stage's later composition finds them in USD's registry)."""
     from pxr import Usd
+    layers = checked_layers(path)
     try:
-        stage = Usd.Stage.Open(os.path.abspath(path), Usd.Stage.LoadAll)
+        stage = Usd.Stage.Open(layers[0], Usd.Stage.LoadAll)
     except Exception as e:   # Tf.ErrorException: unparsable layer, unknown format
         raise MtlxError((Loc(path, 0), "cannot open the USD stage: %s" % _tf_message(e))) from None
     if stage is None:
         raise MtlxError((Loc(path, 0), "cannot open the USD stage"))
-    return stage
+    return stage, layers
+
+
+def _layer_name(layer, path):
+    """A layer as problem lines name it: `path` for the root layer, else its path relative to here."""
+    real = layer.realPath or ""
+    if real and os.path.realpath(real) == os.path.realpath(path):
+        return path
+    if real:
+        rel = os.path.relpath(real)
+        return real if rel.startswith("..") else rel
+    return layer.identifier
+
+
+def checked_layers(path):
+    """The layers the stage at `path` composes, root first, each opened only after its file was found to be a
+    regular file within the USD size cap (files.py): USD opens every sublayer, reference, payload and value clip
+    itself, and a FIFO among them would block it forever, a device never end. The dependencies are read from each
+    parsed layer (variable expressions evaluated as composition evaluates them: a referenced layer stack takes its
+    root layer's variables, overridden by the referencing stack's) and checked before they are opened. Raises
+    MtlxError, one line at the layer that names the file, for a file that is not one; files that are missing or do
+    not parse are left for composition to report."""
+    from pxr import Ar, Sdf
+    root = os.path.abspath(path)
+    check_regular(root, Loc(path, 0), "USD stage", "usd")
+    resolver = Ar.GetResolver()
+    with Ar.ResolverContextBinder(resolver.CreateDefaultContextForAsset(root)):
+        try:
+            layer = Sdf.Layer.FindOrOpen(root)
+        except Exception as e:   # Tf.ErrorException: unparsable layer, unknown format
+            raise MtlxError((Loc(path, 0), "cannot open the USD stage: %s" % _tf_message(e))) from None
+        if layer is None:
+            raise MtlxError((Loc(path, 0), "cannot open the USD stage"))
+        layers, seen = [layer], set()
+        queue = [(layer, dict(layer.expressionVariables or {}))]
+        while queue:
+            layer, variables = queue.pop(0)
+            key = (layer.identifier, repr(sorted(variables.items())))
+            if key in seen:
+                continue
+            seen.add(key)
+            sublayers = set(layer.subLayerPaths)
+            for asset in layer.GetCompositionAssetDependencies():
+                child = _checked_dependency(layer, asset, variables, path, resolver)
+                if child is None:
+                    continue
+                if child not in layers:
+                    layers.append(child)
+                # a sublayer is of this layer stack (its variables); a reference or payload starts a stack of its
+                # own (the referenced layer's variables, overridden by these); a path used both ways goes both ways
+                own = dict(child.expressionVariables or {})
+                if asset in sublayers:
+                    queue.append((child, variables))
+                if asset not in sublayers or (own and _used_as_reference(layer, asset)):
+                    queue.append((child, dict(own, **variables)))
+            for clip in _clip_layers(layer, path, resolver):
+                if clip not in layers:
+                    layers.append(clip)
+            if len(layers) > MAX_LAYERS:
+                raise MtlxError((Loc(path, 0), "the stage composes more than %d layers" % MAX_LAYERS))
+    return layers
+
+
+def _used_as_reference(layer, asset):
+    """Whether a prim spec of `layer` references or payloads `asset` (only asked of a sublayer's path)."""
+    return _dependency_site(layer, asset, sublayers=False) is not None
+
+
+def _dependency_site(layer, asset, sublayers=True):
+    """(what, prim path or None) of the first place `layer` names `asset`: a sublayer, a reference or payload of a
+    prim (in a variant too); None where it does not."""
+    if sublayers and asset in layer.subLayerPaths:
+        return "sublayer", None
+    found = []
+
+    def visit(spec):
+        for what, listed in (("reference", spec.referenceList), ("payload", spec.payloadList)):
+            if any(item.assetPath == asset for item in listed.GetAddedOrExplicitItems()) \
+                    or any(item.assetPath == asset for item in listed.prependedItems) \
+                    or any(item.assetPath == asset for item in listed.appendedItems):
+                found.append((what, str(spec.path)))
+                return True
+        for vset in spec.variantSets.values():
+            for variant in vset.variants.values():
+                if visit(variant.primSpec):
+                    return True
+        return any(visit(child) for child in spec.nameChildren.values())
+
+    for spec in layer.rootPrims.values():
+        if visit(spec):
+            break
+    return found[0] if found else None
+
+
+def _resolved_file(layer, asset, resolver):
+    """(identifier, resolved path, the file to check) of an asset path a layer names, or None where it resolves
+    to nothing (missing: composition reports it)."""
+    from pxr import Sdf
+    identifier = layer.ComputeAbsolutePath(asset)
+    file_path, _ = Sdf.Layer.SplitIdentifier(identifier)
+    resolved = str(resolver.Resolve(file_path) or "")
+    if not resolved:
+        return None
+    outer = _split_package(resolved)[0] if resolved.endswith("]") and "[" in resolved else resolved
+    return identifier, resolved, outer
+
+
+def _checked_dependency(layer, asset, variables, path, resolver):
+    """The layer a sublayer, reference or payload path names, opened after its file was checked; None where it
+    names nothing to open (missing, a .mtlx document: read_mtlx_reference's, an expression that does not
+    evaluate, a file USD cannot parse: composition reports those)."""
+    from pxr import Sdf
+    authored = asset
+    if asset.startswith("`"):
+        result = Sdf.VariableExpression(asset).Evaluate(variables)
+        if result.errors or not isinstance(result.value, str) or not result.value:
+            return None
+        asset = result.value
+    if Sdf.Layer.IsAnonymousLayerIdentifier(asset):
+        return None
+    if asset.lower().endswith(".mtlx"):
+        return None
+    found = _resolved_file(layer, asset, resolver)
+    if found is None:
+        return None
+    identifier, resolved, outer = found
+    why = regular_file_problem(outer, "usd")
+    if why is not None:
+        what, prim = _dependency_site(layer, authored) or ("dependency", None)
+        shown = quoted(authored) + ("" if resolved == asset else " (%s)" % resolved)
+        raise MtlxError((Loc(_layer_name(layer, path), 0, prim), "%s %s is %s" % (what, shown, why)))
+    try:
+        return Sdf.Layer.FindOrOpen(identifier)
+    except Exception:       # unparsable: composition reports it
+        return None
+
+
+def _clip_layers(layer, path, resolver):
+    """The value clip layers (and clip manifests) `layer`'s prims name, checked and opened: USD opens them itself
+    when the stage is composed."""
+    from pxr import Sdf
+    out = []
+    for prim, clips in _clip_sets(layer):
+        loc = Loc(_layer_name(layer, path), 0, prim)
+        for name, clip_set in clips.items():
+            assets = [getattr(a, "path", str(a)) for a in clip_set.get("assetPaths", ()) or ()]
+            manifest = clip_set.get("manifestAssetPath")
+            if manifest is not None and getattr(manifest, "path", str(manifest)):
+                assets.append(getattr(manifest, "path", str(manifest)))
+            template = clip_set.get("templateAssetPath")
+            if template:
+                assets += _template_clips(layer, str(template), clip_set, loc, name)
+            for asset in assets:
+                found = _resolved_file(layer, asset, resolver)
+                if found is None:
+                    continue
+                identifier, resolved, outer = found
+                why = regular_file_problem(outer, "usd")
+                if why is not None:
+                    raise MtlxError((loc, "value clip %s of clip set '%s' is %s" % (quoted(asset), name, why)))
+                try:
+                    clip = Sdf.Layer.FindOrOpen(identifier)
+                except Exception:
+                    clip = None
+                if clip is not None:
+                    out.append(clip)
+    return out
+
+
+def _clip_sets(layer):
+    """(prim path, {clip set: its dictionary}) for the prims of `layer` (variants too) that author `clips`."""
+    prims, out = [], []
+    layer.Traverse(layer.pseudoRoot.path,
+                   lambda p: prims.append(p) if p.IsPrimPath() or p.IsPrimVariantSelectionPath() else None)
+    for p in prims:
+        spec = layer.GetPrimAtPath(p)
+        if spec is not None and spec.HasInfo("clips"):
+            clips = spec.GetInfo("clips")
+            if clips:
+                out.append((str(p), dict(clips)))
+    return out
+
+
+def _template_clips(layer, template, clip_set, loc, name):
+    """The files a clip template could name (those on disk matching its pattern), after its clip count is checked:
+    a template of a billion clips would keep USD busy generating their paths."""
+    try:
+        start, end = float(clip_set.get("templateStartTime")), float(clip_set.get("templateEndTime"))
+        stride = float(clip_set.get("templateStride"))
+    except (TypeError, ValueError):
+        return []
+    if stride > 0 and end >= start and (end - start) / stride + 1 > MAX_TEMPLATE_CLIPS:
+        raise MtlxError((loc, "clip set '%s': its template names %d value clips, more than %d"
+                         % (name, int((end - start) / stride + 1), MAX_TEMPLATE_CLIPS)))
+    full = layer.ComputeAbsolutePath(template)
+    if full.endswith("]"):
+        return []           # inside a package: no FIFO can be there
+    folder, base = os.path.split(full)
+    pattern = re.compile(re.sub(r"(\\#)+", r"\\d+", re.escape(base)) + r"\Z")
+    try:
+        names = os.listdir(folder or ".")
+    except OSError:
+        return []
+    return [os.path.join(folder, n) for n in names if pattern.match(n)]
 
 
 def select_variants(stage, path, variants):
@@ -381,7 +591,6 @@ class _StageReader:
         self.lib = library
         self.library_dirs = tuple(library_dirs)
         self.options = options
-        self.root_real = os.path.realpath(path)
         self.doc = StageDocument(path=path, version="1.39", colorspace="lin_rec709",
                                  usd=StageInfo(path=path, options=options))
         self.taken = set()                  # top-level names: nodes, nodegraphs, document inputs
@@ -391,16 +600,11 @@ class _StageReader:
         self.specs = {}
         self.synth = {}                     # (scope path, source key) -> port name in that scope
         self.cache_dir = None
+        self.image_problems = {}            # texture file -> why it cannot be bound, or None
 
     # ---------- names and locations ----------
     def layer_name(self, layer):
-        real = layer.realPath or ""
-        if real and os.path.realpath(real) == self.root_real:
-            return self.path
-        if real:
-            rel = os.path.relpath(real)
-            return real if rel.startswith("..") else rel
-        return layer.identifier
+        return _layer_name(layer, self.path)
 
     def prim_loc(self, prim):
         stack = prim.GetPrimStack()
@@ -978,9 +1182,8 @@ class _StageReader:
             local = self.local_file(resolved, attr, notes)
             if local is None:
                 return ""
-            from .files import regular_file_problem
-            why = regular_file_problem(local)
-            if why is not None:         # a device or /proc file: never read (files.py); the fallback instead
+            why = self.image_problem(local)
+            if why is not None:         # a FIFO, a device, a huge file, not an image: never bound; the fallback
                 notes.append((self.attr_loc(attr), "texture '%s' is %s; drawing the fallback %s"
                               % (authored, why, self.fallback_text(attr, node_spec))))
                 return ""
@@ -989,6 +1192,13 @@ class _StageReader:
         notes.append((self.attr_loc(attr), "texture '%s' not found (looked for %s); drawing the fallback %s"
                       % (authored, anchored, self.fallback_text(attr, node_spec))))
         return anchored if "[" not in anchored else authored
+
+    def image_problem(self, local):
+        """images.image_problem of a texture file (its header read once per file)."""
+        if local not in self.image_problems:
+            from .images import image_problem
+            self.image_problems[local] = image_problem(local)
+        return self.image_problems[local]
 
     def authoring_layer(self, attr):
         for spec in attr.GetPropertyStack():
@@ -1227,9 +1437,13 @@ class _StageReader:
         info = self.doc.usd
         base = str(prim.GetPath())
         local = self.local_file(mtlx_path, prim, info.problems) if "[" in mtlx_path else mtlx_path
-        if not local or not os.path.isfile(local):
+        if not local or not os.path.lexists(local):
             info.problems.append((loc, "references MaterialX document '%s', which cannot be found (looked for %s)"
                                   % (authored, mtlx_path)))
+            return
+        why = regular_file_problem(local, "text")
+        if why is not None:         # a FIFO, a device, a dangling link: never opened
+            info.problems.append((loc, "references MaterialX document '%s', which is %s" % (authored, why)))
             return
         try:
             sub = load_upgraded(local, self.library_dirs)
