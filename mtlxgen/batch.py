@@ -134,7 +134,10 @@ def run_job(job, library_dirs=(), strict=False, options=None):
         try:
             shader = session.drawable(name, session.shader(name))     # an unreadable texture: its default
             t2 = time.perf_counter()
-            item.image, gl_times = r.render_timed(shader.vertex, shader.fragment, shader.manifest)
+            try:
+                item.image, gl_times = r.render_timed(shader.vertex, shader.fragment, shader.manifest)
+            except MtlxError as e:      # a texture that does not decode: said at the input naming it
+                raise pipeline.at_inputs(shader, e) from None
             # drawn, but with problems to report (a USD stage's: a texture not found, its fallback drawn)
             item.error = MtlxError(session.notes() + session.notes(name)).lines() if hasattr(session, "notes") else []
             item.timings = {"load_s": load_s, "generate_s": t2 - t1, **gl_times,

@@ -214,7 +214,7 @@ def cmd_generate(args):
 
 
 def cmd_render(args):
-    from . import render
+    from . import pipeline, render
     if args.geometry == "stage" and _usd_options(args) is None:
         raise MtlxError((Loc(args.file, 0), "--geometry stage draws a USD stage's meshes; this is a MaterialX document"))
     from .lights import load_light_rig
@@ -231,7 +231,7 @@ def cmd_render(args):
             try:
                 img = r.render(s)
             except MtlxError as e:      # a file the renderer refuses: this element is not drawn, the others are
-                problems += [p for p in e.problems if p not in problems]
+                problems += [p for p in pipeline.at_inputs(s, e).problems if p not in problems]
                 continue
             os.makedirs(args.output, exist_ok=True)
             base = os.path.join(args.output, s.stem)
@@ -292,21 +292,21 @@ def _web_shaders(args):
 
 
 def cmd_web(args):
-    from . import web
+    from . import pipeline, web
     shaders, env, problems = _web_shaders(args)
     environment = web.environment_payload(env) if shaders else None
     for s in shaders:
         try:
             print(web.write_page(s, args.output, environment, args.size, args.samples))
         except MtlxError as e:      # a texture the page cannot embed: this element is not written, the others are
-            problems += [p for p in e.problems if p not in problems]
+            problems += [p for p in pipeline.at_inputs(s, e).problems if p not in problems]
     if problems:
         raise MtlxError(problems)
     return 0
 
 
 def cmd_three(args):
-    from . import three
+    from . import pipeline, three
     shaders, env, problems = _web_shaders(args)
     if shaders:
         os.makedirs(args.output, exist_ok=True)
@@ -317,7 +317,7 @@ def cmd_three(args):
         try:
             print(three.write_element(s, args.output, textures, args.size, args.samples)[0])
         except MtlxError as e:
-            problems += [p for p in e.problems if p not in problems]
+            problems += [p for p in pipeline.at_inputs(s, e).problems if p not in problems]
     if problems:
         raise MtlxError(problems)
     return 0

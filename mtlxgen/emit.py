@@ -37,6 +37,8 @@ class Shader:
     manifest: dict = field(default_factory=dict)
     stem: str = None                  # file name stem (file_stem(element) unless unique_stems changed it)
     document_code: list = field(default_factory=list)   # Emitter.document_code: a document's own GLSL in it
+    # {texture file: Loc of the input naming it}, for what draws the shader (pipeline.Session.drawable)
+    texture_inputs: dict = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self):
         if self.stem is None:

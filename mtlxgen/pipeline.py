@@ -53,6 +53,7 @@ class Session:
         self.element_warnings = {}          # element name -> [(Loc, message)] met building it
         self.element_notes = {}             # element name -> [(Loc, message)]: its textures that cannot be read
         self.unreadable = {}                # element name -> {sampler uniform}: those textures' uniforms
+        self.texture_inputs = {}            # element name -> {sampler uniform: Loc of the input naming its file}
         try:
             self.doc = load_document(path, library_dirs, usd_options)
         except MtlxError as e:          # the document's warnings too, met before its problems
@@ -91,6 +92,8 @@ class Session:
                 self.warnings.extend(found)
         if self.strict and found:
             raise strict_error(found)
+        self.texture_inputs[name] = {u.name: u.loc for u in g.uniforms.values()
+                                     if u.type == "filename" and u.loc is not None}
         if self.stage is None:              # a stage's textures are checked as the stage is read (usdstage.py)
             found = texture_notes(g, self.path)
             self.element_notes[name] = [(loc, message) for _, loc, message in found]
@@ -132,15 +135,19 @@ class Session:
 
     def drawable(self, name, shader):
         """`shader` as whatever draws it binds it: a texture file that cannot be read (notes()) left out of its
-        manifest, so the image's default is drawn and nothing opens the file (a FIFO, a device)."""
+        manifest, so the image's default is drawn and nothing opens the file (a FIFO, a device); and where each
+        file it binds is named (Shader.texture_inputs: a file that does not decode is reported there, at_inputs)."""
         self.notes(name)
-        left_out = self.unreadable.get(name)
-        if not left_out:
-            return shader
+        if name not in self.texture_inputs:         # made from a kept template: its graph, for where its files are
+            self.graph(name)
+        inputs = self.texture_inputs.get(name, {})
+        left_out = self.unreadable.get(name, ())
         import copy
         shader = copy.copy(shader)
         shader.manifest = dict(shader.manifest, textures=[
             dict(t, file="") if t.get("uniform") in left_out else t for t in shader.manifest.get("textures", ())])
+        shader.texture_inputs = {t["file"]: inputs[t["uniform"]] for t in shader.manifest["textures"]
+                                 if t.get("file") and t.get("uniform") in inputs}
         return shader
 
     def _may_have_unreadable_textures(self):
@@ -199,6 +206,21 @@ def texture_notes(g, doc_path):
         if why is not None:
             notes.append((u.name, loc, "texture %s is %s; the image's default is drawn" % (quoted(u.value), why)))
     return notes
+
+
+def at_inputs(shader, error):
+    """`error` (an MtlxError from drawing `shader`) with each problem about one of its texture files (reported at
+    FILE:0 by the image reader) moved to the document input naming that file (Shader.texture_inputs, set by
+    Session.drawable): one line naming the input and the texture."""
+    from .files import quoted
+    where = getattr(shader, "texture_inputs", None) or {}
+    moved = []
+    for loc, message in error.problems:
+        if loc.line == 0 and loc.where is None and loc.file in where:
+            moved.append((where[loc.file], "texture %s: %s" % (quoted(loc.file), message)))
+        else:
+            moved.append((loc, message))
+    return MtlxError(moved, error.warnings)
 
 
 @gc_paused()       # hundreds of thousands of objects, no cycles: the collector only slows a large graph 2-3x

@@ -12,8 +12,8 @@ Texture files are never copied. Each file the manifest resolves (wherever the do
 decoded, not copied, as the README's rule for untrusted documents says) is decoded through images.read_image
 and its pixels written afresh under OUT/textures/ so a page can load them (encode_texture): a PNG for 8-bit
 sources of up to four channels, else a 32-bit float OpenEXR. No byte of the source file (metadata chunks,
-trailing data, the encoding itself) reaches the output; a file that is missing or does not decode draws its
-default colour. What is written is bounded as the web page bounds what it embeds. OUT/textures/ must be a
+trailing data, the encoding itself) reaches the output; a file that is missing draws its default colour,
+one that does not decode is an error (one line; the element is not written), as in render. What is written is bounded as the web page bounds what it embeds. OUT/textures/ must be a
 folder of its own (a symbolic link there is refused).
 
 Text from the document is data in every file written: the module's values (element name, manifest, shaders)
@@ -108,20 +108,15 @@ class TextureFiles:
             return self.done[real]
         check_regular(path, Loc(path, 0), "image file", max_bytes="image")
         info = image_header(real)
-        if info is None:
-            self.done[real] = None
-            return None
+        if info is None:        # not an image: read_image says why, one line (render refuses it the same way)
+            read_image(real)
         _, width, height, bits8 = info
         if width * height > MAX_TEXTURE_PIXELS:
             raise _too_big(path, (width, height), MAX_TEXTURE_PIXELS, "texture")
         if width * height > self.budget:
             raise MtlxError((Loc(path, 0), "the textures of these elements add up to more than a page loads "
                                            "(%.1f megapixels)" % (MAX_TEXTURES_PIXELS / 1e6)))
-        try:
-            img = read_image(real)
-        except MtlxError:
-            self.done[real] = None
-            return None
+        img = read_image(real)      # a file that does not decode: one line, the element not written (as render)
         self.budget -= width * height
         digest = hashlib.sha256(real.encode("utf-8", "surrogatepass")).hexdigest()[:8]
         stem = "%s-%s" % (os.path.splitext(_safe_name(real))[0], digest)

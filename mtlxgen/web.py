@@ -94,8 +94,9 @@ def _too_big(path, size, limit, what):
 
 def load_texture(path, budget):
     """The (h, w, c) float image render binds for a manifest texture file, rows bottom first (as render
-    uploads images), or None where render draws the sampler's default instead (a missing or unreadable file).
-    A device, FIFO or system file is an error, as in render; so is an image past the page's bounds.
+    uploads images), or None where render draws the sampler's default instead (a missing file). A file that
+    does not decode, a device, FIFO or system file is an error, as in render; so is an image past the page's
+    bounds.
     budget: [pixels left for this page's textures], decreased."""
     from .files import check_regular
     from .images import read_image
@@ -109,17 +110,14 @@ def load_texture(path, budget):
         except Exception:
             return None
     size = image_size(path)
-    if size is None:
-        return None
+    if size is None:            # not an image: read_image says why, one line (render refuses it the same way)
+        read_image(path)
     if size[0] * size[1] > MAX_TEXTURE_PIXELS:
         raise _too_big(path, size, MAX_TEXTURE_PIXELS, "texture")
     if size[0] * size[1] > budget[0]:
         raise MtlxError((Loc(path, 0), "the textures of this element add up to more than a web page embeds "
                                        "(%.1f megapixels)" % (MAX_TEXTURES_PIXELS / 1e6)))
-    try:
-        img = read_image(path)
-    except MtlxError:
-        return None
+    img = read_image(path)      # a file that does not decode: one line, the element not written (as render)
     budget[0] -= size[0] * size[1]
     return np.ascontiguousarray(img[::-1])
 

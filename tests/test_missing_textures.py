@@ -138,3 +138,25 @@ def test_materials_made_from_a_kept_template_are_checked_too(tmp_path):
     shaders, error = pipeline.generate(str(path), partial=True, unreadable_textures="error")
     assert len(shaders) == 6
     assert sorted(loc.line for loc, _ in error.problems) == [4 + 10 * k for k in range(6)]
+
+
+def test_a_texture_that_does_not_decode_is_one_line_at_its_input(tmp_path):
+    """A truncated PNG: the decoder's message (libpng's, captured) in one line at the input naming the file, for
+    render and batch alike; generate says nothing (it reads no pixels)."""
+    import numpy as np
+    from mtlxgen.images import write_image
+    path = _doc(tmp_path, "cut.png")
+    whole = str(tmp_path / "whole.png")
+    write_image(whole, np.random.default_rng(1).random((64, 64, 3)).astype(np.float32))
+    data = open(whole, "rb").read()
+    with open(os.path.join(os.path.dirname(path), "cut.png"), "wb") as f:
+        f.write(data[:len(data) // 2])
+    cut = os.path.join(os.path.dirname(path), "cut.png")
+    for args in (["render", path, "-o", str(tmp_path / "r"), "--size", "16"],
+                 ["batch", path, "-o", str(tmp_path / "b"), "-j", "1", "--size", "16", "--no-progress"]):
+        rc, err = _cli(*args)
+        lines = [line for line in err if "cut.png" in line]
+        assert rc == 1 and len(lines) == 1 and lines[0].startswith("%s:%d: texture '%s': " % (path, FILE_LINE, cut)), err
+        assert not any("libpng" in line and not line.startswith(path) for line in err), err
+    rc, err = _cli("generate", path, "-o", str(tmp_path / "g"))
+    assert rc == 0 and err == []

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from mtlxgen import cli, images, pipeline, render, web
+from mtlxgen.diagnostics import MtlxError
 from webpages import CASES, ROOT, SAMPLES, SIZE, assert_parity, browser, open_page, over_black  # noqa: F401
 from webpages import path as _path
 
@@ -276,8 +277,9 @@ def test_device_texture_refused(capsys, tmp_path):
                                    "drawn" % doc], err
 
 
-def test_unreadable_texture_draws_its_default(tmp_path):
-    """A texture file that does not decode is not embedded: the page binds the image's default colour, as render."""
+def test_texture_that_does_not_decode_is_an_error_at_its_input(tmp_path, capsys):
+    """A texture file that does not decode is refused as render refuses it: one line at the input naming the file
+    (the decoder's words), the element not written, exit 1 (it drew the default colour in silence)."""
     (tmp_path / "fake.png").write_text("not an image")
     doc = tmp_path / "fake.mtlx"
     doc.write_text("""<?xml version="1.0"?>
@@ -288,11 +290,15 @@ def test_unreadable_texture_draws_its_default(tmp_path):
 </materialx>
 """)
     shader = pipeline.generate(str(doc), target="essl")[0]
-    payload = web.texture_payload(shader.manifest)
-    (image,) = payload["images"]
-    assert image["source"] == "default colour" and image["width"] == image["height"] == 1
-    assert not image["mipmaps"]
-    assert "not an image" not in json.dumps(payload)
+    with pytest.raises(MtlxError) as e:
+        web.texture_payload(shader.manifest)
+    assert e.value.lines()[0].startswith("%s:0: " % (tmp_path / "fake.png")), e.value.lines()
+    for command in ("web", "three", "render"):
+        rc, err = _run(capsys, command, str(doc), "-o", str(tmp_path / command))
+        assert rc == 1 and len(err) == 1 and err[0].startswith(
+            "%s:3: texture '%s': " % (doc, tmp_path / "fake.png")), err
+        assert not os.path.exists(tmp_path / command / ("out.html" if command == "web" else
+                                                         "out.js" if command == "three" else "out.png"))
 
 
 def test_page_replaces_a_symlink_never_follows_it(tmp_path):
