@@ -230,6 +230,7 @@ class Reload:
     elements: list = field(default_factory=list)
     shaders: dict = field(default_factory=dict)     # element -> Generated
     problems: list = field(default_factory=list)    # FILE:LINE: problem lines
+    notes: list = field(default_factory=list)       # problems of a shader drawn all the same (a texture not found)
     warnings: list = field(default_factory=list)
     files: set = field(default_factory=set)
     started: float = 0.0                # perf_counter when generation began
@@ -314,6 +315,7 @@ class Reloader:
         if name is not None:
             try:
                 r.shaders[name] = g.shader(r.session, name)
+                r.notes = list(r.shaders[name].manifest.get("notes", ()))
             except MtlxError as e:
                 r.problems += e.lines()
         r.warnings = g.warnings(r.session) if hasattr(g, "warnings") else []
@@ -678,8 +680,9 @@ class Viewer:
             self.element = self.elements[0]
         for name, g in r.shaders.items():
             what.append(self._install(name, g))
-        problems = r.problems + self.rig_problems
-        good = r.session is not None and not problems and self.element in r.shaders and r.tree is not None
+        problems = r.problems + r.notes + self.rig_problems
+        good = (r.session is not None and not r.problems and not self.rig_problems and self.element in r.shaders
+                and r.tree is not None)     # notes: drawn all the same, and value edits go on skipping generation
         self.base, self.base_data = (r.tree, r.data) if good else (None, None)
         if problems != self.problems:
             for line in problems:

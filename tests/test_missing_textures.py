@@ -160,3 +160,21 @@ def test_a_texture_that_does_not_decode_is_one_line_at_its_input(tmp_path):
         assert not any("libpng" in line and not line.startswith(path) for line in err), err
     rc, err = _cli("generate", path, "-o", str(tmp_path / "g"))
     assert rc == 0 and err == []
+
+
+def test_view_says_it_and_draws_the_default(tmp_path):
+    """The viewer draws the element (the image's default) and shows the line as a problem: headless, exit 1."""
+    path = _doc(tmp_path, "gone.png")
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)
+    env.pop("WAYLAND_DISPLAY", None)
+    proc = subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), "view", path, "--headless-frames", "2",
+                           "--screenshot", str(tmp_path / "shot.png"), "--no-watch"], capture_output=True, text=True,
+                          timeout=240, env=env)
+    assert proc.returncode == 1 and "Traceback" not in proc.stderr
+    assert [line for line in proc.stderr.splitlines() if "gone.png" in line] == [
+        "%s:%d: texture 'gone.png' not found (looked for %s and in the search paths); the image's default is drawn"
+        % (path, FILE_LINE, os.path.join(os.path.dirname(path), "gone.png"))], proc.stderr
+    from mtlxgen.images import read_image
+    centre = read_image(str(tmp_path / "shot.png"))[240, 320]     # drawn: the sphere, not an empty frame
+    assert centre[:3].max() > 0.05, centre
