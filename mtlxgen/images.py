@@ -205,11 +205,11 @@ def _box(block, f):
 def read_image(path, loc=None, what=None, budget=None, reduce=False, associated=False):
     """Image file -> float32 array (rows top first, channels last: at most MAX_CHANNELS, the file's first ones).
 
-    loc, what: where and as what a problem is reported (default: the file itself, "image file"/"file"). budget: bytes the
-    decoded array may take (MAX_DECODED_BYTES). reduce: an image over the budget is box-filtered down by a power of
-    two as it is read, rather than refused. associated: colour multiplied by alpha, as OpenImageIO reads files
-    unless told otherwise (default: straight alpha, as texture files store it). Raises MtlxError, one line."""
-    import OpenImageIO as oiio
+    loc, what: where and as what a problem is reported (default: the file itself, as "image file" or "file").
+    budget: bytes the decoded array may take (MAX_DECODED_BYTES). reduce: an image over the budget is box-filtered
+    down by a power of two as it is read, rather than refused. associated: colour multiplied by alpha, as
+    OpenImageIO reads files unless told otherwise (default: straight alpha, as texture files store it). Raises
+    MtlxError, one line."""
     loc = loc or Loc(path, 0)
     budget = MAX_DECODED_BYTES if budget is None else budget
     # textures are decoded, never copied, so any regular file will do; devices, FIFOs and /proc would hang or

@@ -456,7 +456,7 @@ class Renderer:
         if self.ctx is not None:
             if not self._owns_ctx:          # a window's context: release what was made in it, leave it open
                 for t in ([self.fbo, self.fbo.depth_attachment, self.index, self.env] + list(self.fbo.color_attachments)
-                          + [b for b, _ in self.buffers.values()] + [t for t in self._image_cache.values() if t]):
+                          + [b for b, _ in self.buffers.values()] + self._textures()):
                     t.release()
                 if self.irradiance is not self.env:
                     self.irradiance.release()
@@ -516,10 +516,14 @@ class Renderer:
         _flip_rows(held[0])
         return self._texture_of(held, mipmaps=True)
 
+    def _textures(self):
+        """The GL textures of the image cache (not its files' absences or errors)."""
+        return [t for t in self._image_cache.values() if t is not None and not isinstance(t, MtlxError)]
+
     def forget_texture(self, path):
         """Drop a file's texture (it changed on disk): the next draw that binds it reads it again."""
         t = self._image_cache.pop(path, None)
-        if t is not None:
+        if t is not None and not isinstance(t, MtlxError):
             t.release()
 
     def constant_texture(self, value):

@@ -91,7 +91,8 @@ def read_view(path, library_dirs=(), options=None):
             try:
                 draw = _mesh(prim, info, time, problems, MAX_CORNERS - corners)
             except _Skip as e:      # an empty mesh draws nothing, rightly: said only where nothing is drawn
-                (empty if e.empty else skipped).append((Loc(path, where=str(prim.GetPath())), "mesh not drawn: %s" % e))
+                where = Loc(path, where=str(prim.GetPath()))
+                (empty if e.empty else skipped).append((where, "mesh not drawn: %s" % e))
                 continue
             corners += len(draw.attrs["i_position"])
             if corners > MAX_CORNERS:
@@ -99,7 +100,8 @@ def read_view(path, library_dirs=(), options=None):
             draw.world = up @ np.array(cache.GetLocalToWorldTransform(prim), dtype=np.float64).T
             meshes.append(draw)
         if not meshes:      # the meshes there are, each with what is wrong with it; else that there is none
-            raise MtlxError(skipped + empty or [(Loc(path, 0), "--geometry stage: no visible UsdGeomMesh on the stage")])
+            raise MtlxError(skipped + empty or
+                            [(Loc(path, 0), "--geometry stage: no visible UsdGeomMesh on the stage")])
         problems = skipped + problems
         if camera is not None:
             view, projection, eye = _camera(camera, time, up)

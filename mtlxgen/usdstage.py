@@ -2,7 +2,11 @@
 
 The stage is opened and composed by Pixar's own library (`usd-core`, module `pxr`): references,
 payloads, sublayers and variants (`--variant SET=NAME`, authored in the session layer) are USD's
-business; this module reads the composed result. Every UsdShadeMaterial becomes a `surfacematerial`
+business; this module reads the composed result. USD opens every layer it composes itself, so before it
+composes anything each one is found from the layer naming it (sublayers, references and payloads in
+variants too, paths given by variable expressions, value clips and clip templates), its file checked to be
+a regular file within the USD size cap (a FIFO would block USD forever), and opened one at a time; the
+stage is then composed from those opened layers (checked_layers). Every UsdShadeMaterial becomes a `surfacematerial`
 element named by its prim path (`/Root/Looks/Wood` -> `Root_Looks_Wood`), and its network becomes
 the same dataclasses document.py builds from XML, so everything after the document (graph, emit,
 render) is shared with .mtlx input:

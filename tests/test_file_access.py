@@ -115,12 +115,12 @@ def test_fifos_everywhere_usd_opens_files(tmp_path):
     (tmp_path / "clips" / "c.001.usda").write_text("#usda 1.0\n")
     os.mkfifo(tmp_path / "clips" / "c.002.usda")
     (tmp_path / "vars.usda").write_text('#usda 1.0\n(\n    defaultPrim = "R"\n    expressionVariables = {\n'
-                                        '        string X = "fifo"\n    }\n    subLayers = [@`"./${X}.usda"`@]\n)\n'
-                                        'def Xform "R"\n{\n}\n')
+                                        '        string X = "fifo"\n    }\n'
+                                        '    subLayers = [@`"./${X}.usda"`@]\n)\ndef Xform "R"\n{\n}\n')
     stages = {
         "variant": 'def Xform "V" (\n    variantSets = "v"\n    variants = {\n        string v = "a"\n    }\n)\n{\n'
-                   '    variantSet "v" = {\n        "a" {\n        }\n        "b" (\n            payload = @./fifo.usda@\n'
-                   '        ) {\n        }\n    }\n}\n',
+                   '    variantSet "v" = {\n        "a" {\n        }\n        "b" (\n'
+                   '            payload = @./fifo.usda@\n        ) {\n        }\n    }\n}\n',
         "expression": 'def Xform "E" (\n    references = @./vars.usda@\n)\n{\n}\n',
         "clip": 'def Xform "C" (\n    clips = {\n        dictionary default = {\n'
                 '            asset[] assetPaths = [@./fifo.usda@]\n            string primPath = "/C"\n        }\n'
@@ -128,7 +128,8 @@ def test_fifos_everywhere_usd_opens_files(tmp_path):
         "template": 'def Xform "C" (\n    clips = {\n        dictionary default = {\n'
                     '            string templateAssetPath = "./clips/c.###.usda"\n'
                     '            double templateStartTime = 1\n            double templateEndTime = 2\n'
-                    '            double templateStride = 1\n            string primPath = "/C"\n        }\n    }\n)\n{\n}\n',
+                    '            double templateStride = 1\n            string primPath = "/C"\n        }\n'
+                    '    }\n)\n{\n}\n',
         "mtlx": 'def Xform "X" (\n    references = @./fifo.mtlx@\n)\n{\n}\n',
     }
     paths = []
@@ -266,7 +267,8 @@ def test_truncated_png_is_one_line_without_libpng_output(tmp_path, capfd):
     assert main(["render", doc, "-o", str(tmp_path / "o"), "--size", "16"]) == 1
     err = capfd.readouterr().err
     assert "libpng" not in err
-    assert one_line(err).startswith("%s/cut.png:0: file does not decode as an image (" % tmp_path)
+    line = one_line(err)        # at the input naming the file where the pipeline knows it, else at the file
+    assert "%s/cut.png" % tmp_path in line and "does not decode as an image (" in line, line
     # as an environment: one line, no escaped line breaks of OpenImageIO's several-line message
     assert main(["render", doc, "-o", str(tmp_path / "o"), "--size", "16", "--env", str(tmp_path / "cut.png")]) == 1
     line = one_line(capfd.readouterr().err)
@@ -327,8 +329,8 @@ def test_16k_texture_and_environment_render_in_bounded_memory(tmp_path):
     lit = write_doc(tmp_path, '<standard_surface name="s" type="surfaceshader"><input name="specular" type="float" '
                               'value="0" /></standard_surface><surfacematerial name="m" type="material"><input '
                               'name="surfaceshader" type="surfaceshader" nodename="s" /></surfacematerial>', "lit.mtlx")
-    rc, _, err, peak = run_measured(["render", lit, "-o", tmp_path / "e", "--size", "32", "--env", tmp_path / "big.png"],
-                                    address_space=6 * 10 ** 9)
+    rc, _, err, peak = run_measured(["render", lit, "-o", tmp_path / "e", "--size", "32",
+                                     "--env", tmp_path / "big.png"], address_space=6 * 10 ** 9)
     assert rc == 0 and err == "", err
     assert peak < 2500, "environment: peak %d MB" % peak
     centre = images.read_image(str(tmp_path / "e" / "m.exr"))[16, 16, :3]
@@ -382,3 +384,27 @@ def test_meshes_that_cannot_be_drawn_say_why(tmp_path):
     assert e.value.lines() == [
         "%s:/World/Bad: mesh not drawn: faceVertexIndices out of range: 7 is not one of its 3 points" % path,
         "%s:/World/Empty: mesh not drawn: it has no points" % path]
+
+
+def test_renderer_keeps_a_texture_error_until_the_file_is_forgotten(tmp_path):
+    """A texture that does not decode is an error at every bind (not a default drawn in silence after the first);
+    forgetting the file (the viewer's reload) reads it again; closing a renderer on a borrowed context releases
+    its textures, not the errors kept beside them."""
+    bad = tmp_path / "bad.png"
+    bad.write_text("not an image")
+    ctx = render.create_context()
+    try:
+        r = render.Renderer(size=8, ctx=ctx)
+        for _ in range(2):
+            with pytest.raises(MtlxError) as e:
+                r.image_texture(str(bad))
+            assert e.value.lines()[0].startswith("%s:0: file is not an image (" % bad)
+        assert r.image_texture(str(tmp_path / "absent.png")) is None         # missing: the sampler's default
+        images.write_image(str(bad), np.full((2, 2, 3), 0.5, dtype=np.float32))
+        with pytest.raises(MtlxError):
+            r.image_texture(str(bad))           # mended on disk: still the error, until the file is forgotten
+        r.forget_texture(str(bad))
+        assert r.image_texture(str(bad)).size == (2, 2)
+        r.close()
+    finally:
+        ctx.release()
