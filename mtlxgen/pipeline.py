@@ -210,14 +210,15 @@ def texture_notes(g, doc_path):
 
 def at_inputs(shader, error):
     """`error` (an MtlxError from drawing `shader`) with each problem about one of its texture files (reported at
-    FILE:0 by the image reader) moved to the document input naming that file (Shader.texture_inputs, set by
-    Session.drawable): one line naming the input and the texture."""
+    FILE:0 by the image reader, FILE:LINE by the IES reader) moved to the document input naming that file
+    (Shader.texture_inputs, set by Session.drawable): one line naming the input and the texture."""
     from .files import quoted
     where = getattr(shader, "texture_inputs", None) or {}
     moved = []
     for loc, message in error.problems:
-        if loc.line == 0 and loc.where is None and loc.file in where:
-            moved.append((where[loc.file], "texture %s: %s" % (quoted(loc.file), message)))
+        if loc.where is None and loc.file in where:
+            at = " line %d" % loc.line if loc.line else ""
+            moved.append((where[loc.file], "texture %s%s: %s" % (quoted(loc.file), at, message)))
         else:
             moved.append((loc, message))
     return MtlxError(moved, error.warnings)

@@ -235,7 +235,9 @@ def _v1_transparency():
     return m * a                                                   # add multiplies throughputs; multiply keeps them
 
 
-def test_measured_edf_with_a_broken_ies_file_renders_dark_not_a_traceback(tmp_path):
+def test_measured_edf_with_a_broken_ies_file_is_one_line_at_its_input(tmp_path):
+    """A profile that does not read is refused as a texture that does not decode: one line at the input naming
+    the file and the IES reader's line, nothing drawn (it drew a dark sphere in silence)."""
     bad = os.path.join(str(tmp_path), "bad.ies")
     with open(bad, "w") as f:
         f.write("not an ies file\n")
@@ -244,9 +246,6 @@ def test_measured_edf_with_a_broken_ies_file_renders_dark_not_a_traceback(tmp_pa
   <surface name="s" type="surfaceshader"><input name="edf" type="EDF" nodename="lum" /></surface>""")
     r = subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), "render", path, "-o", str(tmp_path / "o"),
                         "--size", "32"], capture_output=True, text=True)
-    assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
-    from mtlxgen import images
-    img = images.read_image(str(tmp_path / "o" / "s.exr"))
-    covered = img[..., 3] > 0
-    assert covered.sum() > 100                           # the sphere is drawn ...
-    assert np.abs(img[..., :3][covered]).max() == 0.0    # ... and emits nothing: no profile, no light
+    assert r.returncode == 1 and "Traceback" not in r.stderr, r.stderr
+    assert r.stderr.splitlines() == ["%s:4: texture '%s' line 1: no TILT= line: not an IES LM-63 file" % (path, bad)]
+    assert not os.path.exists(tmp_path / "o" / "s.exr")
