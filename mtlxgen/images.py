@@ -16,6 +16,7 @@ Image files come from strangers, so a read is bounded before anything is decoded
 """
 import os
 import tempfile
+import threading
 from contextlib import contextmanager
 
 import numpy as np
@@ -44,27 +45,46 @@ def to_srgb8(img):
 
 # ---------------------------------------------------------------- decoder messages
 
+_STDERR_LOCK = threading.Lock()
+_STDERR = {"depth": 0, "saved": None, "scratch": None}
+
+
 @contextmanager
 def captured_stderr():
     """Whatever is written to file descriptor 2 inside the block (libraries write there themselves: libpng's
-    "libpng error: ..."), kept out of the process's stderr; the list yielded receives its lines at the end."""
+    "libpng error: ...", USD's warnings), kept out of the process's stderr; the list yielded receives the lines
+    written meanwhile at the end. Blocks may nest and overlap across threads: the first one in sends fd 2 to a
+    scratch file, the last one out puts it back."""
     import sys
     lines = []
+    with _STDERR_LOCK:
+        if _STDERR["depth"] == 0:
+            try:
+                sys.stderr.flush()
+                saved = os.dup(2)
+            except (OSError, ValueError):
+                saved = None
+            if saved is not None:
+                scratch = tempfile.TemporaryFile()
+                os.dup2(scratch.fileno(), 2)
+                _STDERR.update(saved=saved, scratch=scratch)
+        _STDERR["depth"] += 1
+        scratch = _STDERR["scratch"]
+        start = os.fstat(scratch.fileno()).st_size if scratch is not None else 0
     try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError):
         yield lines
-        return
-    with tempfile.TemporaryFile() as scratch:
-        os.dup2(scratch.fileno(), 2)
-        try:
-            yield lines
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            scratch.seek(0)
-            lines.extend(scratch.read(1 << 16).decode("utf-8", "replace").splitlines())
+    finally:
+        with _STDERR_LOCK:
+            if scratch is not None:
+                end = os.fstat(scratch.fileno()).st_size
+                data = os.pread(scratch.fileno(), min(end - start, 1 << 16), start) if end > start else b""
+                lines.extend(data.decode("utf-8", "replace").splitlines())
+            _STDERR["depth"] -= 1
+            if _STDERR["depth"] == 0 and _STDERR["saved"] is not None:
+                os.dup2(_STDERR["saved"], 2)
+                os.close(_STDERR["saved"])
+                _STDERR["scratch"].close()
+                _STDERR.update(saved=None, scratch=None)
 
 
 _GENERIC = ("png library error", "png read error", "error", "")

@@ -186,22 +186,10 @@ def _has_materials(stage):
 @contextmanager
 def _quiet_stderr():
     """USD reports warnings by writing to the process's stderr; problems are reported here instead, one
-    line each, so its writes during reading go to a scratch file."""
-    import sys
-    import tempfile
-    try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError):
+    line each, so its writes during reading go to a scratch file (images.captured_stderr)."""
+    from .images import captured_stderr
+    with captured_stderr():
         yield
-        return
-    with tempfile.TemporaryFile() as scratch:
-        os.dup2(scratch.fileno(), 2)
-        try:
-            yield
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
 
 
 def _tf_message(e):
