@@ -58,7 +58,7 @@ def _under(path, root):
 
 
 def _megabytes(n):
-    return "%d MB" % (n // 2 ** 20) if n >= 2 ** 20 else "%d bytes" % n
+    return "%d MB" % (n // 2 ** 20) if n >= 2 ** 20 and n % 2 ** 20 == 0 else "{:,} bytes".format(n)
 
 
 def regular_file_problem(path, max_bytes=None):

@@ -202,7 +202,7 @@ def texture_notes(g, doc_path):
             notes.append((u.name, loc, "texture %s not found (looked for %s and in the search paths); the image's "
                                "default is drawn" % (quoted(u.value), looked)))
             continue
-        why = regular_file_problem(found)
+        why = regular_file_problem(found, "image")
         if why is not None:
             notes.append((u.name, loc, "texture %s is %s; the image's default is drawn" % (quoted(u.value), why)))
     return notes
@@ -268,7 +268,8 @@ def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules
         else:
             for loc, message in items:
                 problems.add(loc, message)
-    note(session.notes())
+    for loc, message in session.notes():    # the stage's own (a variant it lacks, composition): always problems
+        problems.add(loc, message)
     for name in session.elements:
         try:
             shader = session.shader(name)

@@ -203,12 +203,12 @@ def test_sparse_files_are_refused_on_their_size(tmp_path, capsys):
                               '</image><output name="out" type="color3" nodename="img" />')
     assert main(["render", doc, "-o", str(tmp_path / "o"), "--size", "16"]) == 1
     line = one_line(capsys.readouterr().err)
-    assert "big.png" in line and "is larger than 512 MB (1024 MB)" in line, line
+    assert "big.png" in line and "is larger than 512 MB (1,073,741,825 bytes)" in line, line
     assert main(["render", doc, "-o", str(tmp_path / "o"), "--size", "16", "--env", big_exr]) == 1
-    assert capsys.readouterr().err.splitlines() == ["%s:0: environment file is larger than 512 MB (1024 MB)" % big_exr]
+    assert capsys.readouterr().err.splitlines() == ["%s:0: environment file is larger than 512 MB (1,073,741,825 bytes)" % big_exr]
     with pytest.raises(MtlxError) as e:
         ies.parse(_sparse(tmp_path / "big.ies"))
-    assert e.value.lines() == ["%s/big.ies:0: IES file is larger than 32 MB (1024 MB)" % tmp_path]
+    assert e.value.lines() == ["%s/big.ies:0: IES file is larger than 32 MB (1,073,741,825 bytes)" % tmp_path]
     assert images.image_header(big_png) is None and images.image_problem(big_png).startswith("larger than 512 MB")
     # a USD layer (cap 1 GB) and a stage's texture
     _sparse(tmp_path / "big.usda", 2 ** 30 + 2 ** 20)
@@ -220,7 +220,7 @@ def test_sparse_files_are_refused_on_their_size(tmp_path, capsys):
     from mtlxgen import usdstage
     doc = usdstage.load(_texture_stage(tmp_path, "big.png"))
     (m,) = doc.usd.materials.values()
-    assert [msg for _, msg in m.notes] == ["texture 'big.png' is larger than 512 MB (1024 MB); drawing the fallback "
+    assert [msg for _, msg in m.notes] == ["texture 'big.png' is larger than 512 MB (1,073,741,825 bytes); drawing the fallback "
                                            "(0, 0, 0, 1)"]
     assert time.monotonic() - start < 30
 

@@ -142,8 +142,9 @@ console.log(JSON.stringify(out));
 
 def test_textures_written_beside_the_module(tmp_path):
     """Texture files are decoded and their pixels written afresh to OUT/textures/ (8-bit sources as PNG, the same
-    8-bit values), never copied; one that does not decode is not written (its default colour is drawn); the
-    module's manifest names the written files relative to itself."""
+    8-bit values), never copied; one that does not decode is refused as render refuses it (one line at the input
+    naming it, the element not written, nothing of the file anywhere); the module's manifest names the written
+    files relative to itself."""
     (tmp_path / "doc").mkdir()
     (tmp_path / "doc" / "fake.png").write_text("secret, not an image")
     shutil.copy(_path("examples/usd/stripes_r.png"), tmp_path / "doc" / "stripes.png")
@@ -160,6 +161,11 @@ def test_textures_written_beside_the_module(tmp_path):
   <output name="out" type="color3" nodename="abc" />
 </materialx>
 """)
+    refused = tmp_path / "refused"
+    assert cli.main(["three", str(doc), "-o", str(refused)]) == 1
+    assert not list(refused.glob("out*.js")) and b"secret" not in b"".join(
+        p.read_bytes() for p in refused.rglob("*") if p.is_file())
+    doc.write_text(doc.read_text().replace('value="fake.png"', 'value="stripes.png"'))
     out = tmp_path / "out"
     assert cli.main(["three", str(doc), "-o", str(out)]) == 0
     copies = sorted(p.name for p in (out / "textures").iterdir())
@@ -174,7 +180,7 @@ def test_textures_written_beside_the_module(tmp_path):
     text = [p for p in out.glob("*.js") if p.name != "mtlxgen_three.js"][0].read_text()
     manifest = json.loads(text.split("export const manifest = ", 1)[1].split(";\n", 1)[0])
     urls = {t["source"]: t["url"] for t in manifest["textures"]}
-    assert urls == {"fake.png": None, "stripes.png": "textures/" + copies[1], "rough.jpg": "textures/" + copies[0]}
+    assert urls == {"stripes.png": "textures/" + copies[1], "rough.jpg": "textures/" + copies[0]}
     assert all("file" not in t for t in manifest["textures"])       # no absolute paths of the author's machine
     assert module is not None and "secret" not in "".join(p.read_text(errors="replace") for p in out.rglob("*.js"))
     assert (out / "environment.exr").is_file() and (out / "mtlxgen_three.js").is_file()
