@@ -336,6 +336,8 @@ def write_image(path, img):
 
     def write(tmp):         # through a temporary file and a rename: a symlink at `path` is replaced, not followed
         if not buf.write(tmp, fileformat=ext.lstrip(".")):
-            raise MtlxError((Loc(path, 0), "cannot write image: %s" % " ".join(buf.geterror().split())))
+            # a name no format takes leaves OpenImageIO's global error (printed at exit unless taken), naming tmp
+            why = " ".join((buf.geterror() or oiio.geterror()).replace(tmp, path).split())
+            raise MtlxError((Loc(path, 0), "cannot write image: %s" % why))
     write_through_temp(path, write)
     return path
