@@ -37,10 +37,10 @@ def srgb_encode(linear):
 
 
 def to_srgb8(img):
-    """Linear RGB(A) float image -> sRGB 8-bit RGB(A) (alpha stays linear)."""
+    """Linear RGB(A) float image -> sRGB 8-bit RGB(A) (alpha stays linear); NaN is written as 0."""
     out = np.array(img, dtype=np.float64, copy=True)
     out[..., :3] = srgb_encode(out[..., :3])
-    return (np.clip(out, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
+    return (np.nan_to_num(np.clip(out, 0.0, 1.0), nan=0.0) * 255.0 + 0.5).astype(np.uint8)
 
 
 # ---------------------------------------------------------------- decoder messages

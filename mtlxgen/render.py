@@ -196,11 +196,16 @@ def irradiance_map(env, width=128, height=64):
 def load_environment(path, loc=None):
     """A lat-long environment file as float32 RGB (rows top first). Any regular image file within the size caps
     (images.py); one whose decoded floats would pass images.MAX_DECODED_BYTES (a 16384 x 8192 map) is box-filtered
-    down by a power of two as it is read. Problems: one line at `loc` (default: the file)."""
+    down by a power of two as it is read. Grey (and grey-and-alpha) maps light as their grey; texels that are
+    not finite (NaN, infinite: no radiance) read as 0. Problems: one line at `loc` (default: the file)."""
     img = read_image(path, loc, "environment file", reduce=True)
-    if img.shape[2] == 1:
-        img = np.repeat(img, 3, axis=2)
-    return img[..., :3] if img.shape[2] > 3 else img
+    if img.shape[2] <= 2:
+        img = np.repeat(img[..., :1], 3, axis=2)
+    img = img[..., :3] if img.shape[2] > 3 else img
+    for r0 in range(0, img.shape[0], SH_BAND_ROWS):      # in place, a band of rows at a time
+        band = img[r0:r0 + SH_BAND_ROWS]
+        band[~np.isfinite(band)] = 0.0
+    return img
 
 
 # the lat-long frame of interface.md: x and z negated (the same as the shaders' default u_envMatrix)

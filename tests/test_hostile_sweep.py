@@ -10,6 +10,7 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CHECKER = os.path.join(ROOT, "examples", "unlit_checker.mtlx")
+LIT = os.path.join(ROOT, "examples", "quick_start.mtlx")
 
 
 def run_cli(*args, cwd, timeout=120):
@@ -25,7 +26,14 @@ def problem_lines(proc):
     text = proc.stdout + proc.stderr
     assert proc.returncode in (0, 1), text
     assert "Traceback" not in text and "internal error" not in text, text
+    assert "pending error" not in text, text        # OpenImageIO's untaken error, printed at exit
     return [line for line in proc.stderr.splitlines() if line.strip()]
+
+
+@pytest.fixture
+def lit(tmp_path):
+    shutil.copy(LIT, tmp_path / "lit.mtlx")
+    return tmp_path / "lit.mtlx"
 
 
 @pytest.fixture
@@ -48,3 +56,43 @@ def test_capture_window_to_a_name_no_image_format_takes_is_one_line(doc, tmp_pat
     assert ".tmp" not in proc.stdout + proc.stderr and "pending error" not in proc.stdout + proc.stderr, proc.stdout
     assert "format" in lines[0], lines
     assert not [f for f in os.listdir(tmp_path) if f.startswith(".")]
+
+
+# ---------------------------------------------------------------- --env of odd images
+
+def write_exr(path, pixels):
+    import numpy as np
+    import OpenImageIO as oiio
+    h, w, c = pixels.shape
+    buf = oiio.ImageBuf(oiio.ImageSpec(w, h, c, oiio.FLOAT))
+    buf.set_pixels(oiio.ROI(), np.ascontiguousarray(pixels, dtype=np.float32))
+    assert buf.write(str(path)), buf.geterror()
+    return str(path)
+
+
+ENV_RUNS = {"render": ("render", "-o", "out", "--size", "8"),
+            "web": ("web", "-o", "out", "--size", "8"),
+            "three": ("three", "-o", "out", "--size", "8"),
+            "batch": ("batch", "-o", "out", "--size", "8", "-j", "1", "--no-progress"),
+            "view": ("view", "--headless-frames", "1", "--no-watch", "--no-panel", "--size", "8", "8")}
+
+
+@pytest.mark.parametrize("command", sorted(ENV_RUNS))
+def test_two_channel_environment_is_read_as_grey(lit, tmp_path, command):
+    """A grey-and-alpha environment (two channels) lights as its grey, as a one-channel one does (an internal
+    error in the SH projection, and three's environment.exr written from the wrong buffer, before)."""
+    import numpy as np
+    env = write_exr(tmp_path / "grey_alpha.exr", np.full((8, 16, 2), 0.5))
+    args = ENV_RUNS[command]
+    proc = run_cli(*args[:1], str(lit), *args[1:], "--env", env, cwd=tmp_path)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "3e38"])
+def test_environment_of_non_finite_or_huge_values_prints_no_numpy_warnings(lit, tmp_path, value):
+    """NaN, infinite or float-overflowing radiance: the render is written, stderr holds no multi-line numpy
+    RuntimeWarnings (a NaN pixel is written black in the PNG)."""
+    import numpy as np
+    env = write_exr(tmp_path / "env.exr", np.full((8, 16, 3), float(value)))
+    proc = run_cli("render", str(lit), "-o", "out", "--size", "8", "--env", env, cwd=tmp_path)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
