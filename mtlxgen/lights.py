@@ -10,6 +10,7 @@ from .diagnostics import Loc, MtlxError
 LIGHT_TYPES = {"point_light": 1, "directional_light": 2, "spot_light": 3}
 _DEFAULTS = {"position": (0.0, 0.0, 0.0), "direction": (0.0, 0.0, -1.0), "color": (1.0, 1.0, 1.0),
              "intensity": 1.0, "decay_rate": 2.0, "inner_angle": 1.0, "outer_angle": 1.0}
+_TYPES = {"position": "vector3", "direction": "vector3", "color": "color3"}       # the others: float
 from .interface import LIGHTS_LIMIT as MAX_LIGHTS     # a rig's lights: at most what a shader takes
 
 
@@ -29,6 +30,10 @@ def load_light_rig(path):
                 raise MtlxError((port.loc, "light '%s': input '%s' must be a value in a light rig" % (name, member)))
             if port is not None and port.error:          # a value that does not parse: not the default in silence
                 raise MtlxError((port.loc, port.error))
+            want = _TYPES.get(member, "float")
+            if port is not None and port.type != want:   # no light nodedef takes it: not read as some other type
+                raise MtlxError((port.loc, "light '%s': input '%s' is of type %s; a %s's %s is a %s"
+                                 % (name, member, port.type, node.category, member, want)))
             value = port.value if port is not None and port.value is not None else default
             light[member] = tuple(float(v) for v in value) if isinstance(default, tuple) else float(value)
         lights.append(light)

@@ -584,7 +584,7 @@ class Viewer:
         self._quads = {name: ctx.vertex_array(p, []) for name, p in self._programs.items()}
         self._targets = None
         self._make_targets()
-        self._load_rig()
+        self._load_rig(say=False)
         self.reloader = Reloader(self.generator, self.path, wake=self._wake)
         self.watcher = None
         if watch:
@@ -644,7 +644,9 @@ class Viewer:
             self.camera.frame(centre, radius)
         self.changed()
 
-    def _load_rig(self):
+    def _load_rig(self, say=True):
+        """Read the light rig; its problems are said here when `say` (a reload of the rig), else by the first
+        apply(), which says every problem (said here too, each was printed twice)."""
         if not self.lights_file:
             return
         from .lights import load_light_rig
@@ -653,7 +655,7 @@ class Viewer:
             self.rig_problems = []
         except MtlxError as e:
             self.rig_problems = e.lines()
-            for line in self.rig_problems:
+            for line in self.rig_problems if say else ():
                 self.say(line)
         self.changed()
 

@@ -96,3 +96,29 @@ def test_environment_of_non_finite_or_huge_values_prints_no_numpy_warnings(lit, 
     env = write_exr(tmp_path / "env.exr", np.full((8, 16, 3), float(value)))
     proc = run_cli("render", str(lit), "-o", "out", "--size", "8", "--env", env, cwd=tmp_path)
     assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+
+
+# ---------------------------------------------------------------- --lights rigs of wrong types
+
+@pytest.mark.parametrize("light, member, type_, value", [
+    ("directional_light", "direction", "float", "1"),
+    ("directional_light", "direction", "vector4", "1, 2, 3, 4"),
+    ("point_light", "position", "matrix33", "1, 0, 0, 0, 1, 0, 0, 0, 1"),
+    ("point_light", "intensity", "color3", "1, 1, 1"),
+    ("point_light", "intensity", "string", "bright"),
+    ("point_light", "color", "filename", "x.png"),
+])
+@pytest.mark.parametrize("command", ["render", "view"])
+def test_light_rig_input_of_another_type_is_one_line_at_the_input(lit, tmp_path, light, member, type_, value, command):
+    """A rig's light input whose type no light nodedef takes: one line at the input (exit 3, an internal error
+    from float() or struct.pack, before)."""
+    rig = tmp_path / "rig.mtlx"
+    rig.write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n  <%s name="l" type="lightshader">\n'
+                   '    <input name="%s" type="%s" value="%s" />\n  </%s>\n</materialx>\n'
+                   % (light, member, type_, value, light))
+    args = (("render", str(lit), "-o", "out", "--size", "8") if command == "render" else
+            ("view", str(lit), "--headless-frames", "1", "--no-watch", "--no-panel", "--size", "8", "8"))
+    proc = run_cli(*args, "--lights", str(rig), cwd=tmp_path)
+    lines = problem_lines(proc)
+    assert proc.returncode == 1 and len(lines) == 1, lines
+    assert lines[0].startswith(str(rig) + ":4: ") and member in lines[0] and type_ in lines[0], lines
