@@ -58,17 +58,19 @@ class PanelInput:
 
 # ------------------------------------------------------------------ reading
 
-_ATTR_CACHE = {}
+_ATTR_CACHE = {}        # path -> (mtime, attrs): one entry a file, its latest reading
 
 
 def _input_attrs(path):
-    """{(line, input name): attrs} of every <input> element in a .mtlx file (read once per file and mtime)."""
+    """{(line, input name): attrs} of every <input> element in a .mtlx file (read once per file and mtime; a
+    file edited again and again in a long viewer session keeps one entry, its latest)."""
     from . import xmlreader
     try:
-        key = (path, os.path.getmtime(path))
+        mtime = os.path.getmtime(path)
     except OSError:
         return {}
-    if key not in _ATTR_CACHE:
+    cached = _ATTR_CACHE.get(path)
+    if cached is None or cached[0] != mtime:
         out = {}
         try:
             stack = [xmlreader.read_file(path)]
@@ -79,8 +81,8 @@ def _input_attrs(path):
             if el.tag == "input" and el.get("name"):
                 out[(el.loc.file, el.loc.line, el.get("name"))] = el.attrs
             stack.extend(el.children)
-        _ATTR_CACHE[key] = out
-    return _ATTR_CACHE[key]
+        _ATTR_CACHE[path] = cached = (mtime, out)
+    return cached[1]
 
 
 def _attrs(port):
