@@ -185,8 +185,81 @@ def read_png8(path):
 
 # ---------------------------------------------------------------- index
 
+MAX_SIZE = 8192            # as the command line's --size
+MAX_SAMPLES = 65536         # as web's --samples
+
+
+def _shown(value):
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _plain_name(value):
+    """A file's name alone, as update writes them: no folder (so never outside the golden or output folder)."""
+    return (isinstance(value, str) and value not in ("", ".", "..") and value.isprintable()
+            and "/" not in value and "\\" not in value and os.sep not in value)
+
+
+def _count(value, low, high):
+    return isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
+
+
+def _fraction(value, low=0.0, high=float("inf")):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and low <= value <= high
+
+
+def _entry_problems(name, entry):
+    """Why an index entry is not one update writes (' .FIELD: why' each): the index comes with the project
+    (a pull request), and its names become paths that are read and written, its settings a render's."""
+    if not _plain_name(name):
+        return [": not a file name (a golden's name names its images in the golden and output folders)"]
+    if not isinstance(entry, dict):
+        return [": %s is not an object" % _shown(entry)]
+    out = []
+    for key in ("source", "element", "png"):
+        if not isinstance(entry.get(key), str) or (key != "element" and not entry[key]):
+            out.append(".%s: %s is not a%s text" % (key, _shown(entry.get(key)), "" if key == "element" else
+                                                    " non-empty"))
+    for key in ("png", "exr"):
+        value = entry.get(key)
+        if isinstance(value, str) and not _plain_name(value):
+            out.append(".%s: %s is not a file name in the golden folder" % (key, _shown(value)))
+    if entry.get("exr") is not None and not isinstance(entry["exr"], str):
+        out.append(".exr: %s is not a text or null" % _shown(entry["exr"]))
+    settings = entry.get("settings")
+    if settings is not None and not isinstance(settings, dict):
+        out.append(".settings: %s is not an object" % _shown(settings))
+    elif settings:
+        if "size" in settings and not _count(settings["size"], 1, MAX_SIZE):
+            out.append(".settings.size: %s is not a whole number from 1 to %d" % (_shown(settings["size"]), MAX_SIZE))
+        if "samples" in settings and not _count(settings["samples"], 1, MAX_SAMPLES):
+            out.append(".settings.samples: %s is not a whole number from 1 to %d"
+                       % (_shown(settings["samples"]), MAX_SAMPLES))
+        env = settings.get("environment")
+        if env is not None and (not isinstance(env, str) or not env.isprintable()):
+            out.append(".settings.environment: %s is not a file name or null" % _shown(env))
+        for key, kind in (("lights", list), ("geometry", dict), ("camera", dict)):
+            if settings.get(key) is not None and not isinstance(settings[key], kind):
+                out.append(".settings.%s: %s is not %s" % (key, _shown(settings[key]),
+                                                           "a list" if kind is list else "an object"))
+    tol = entry.get("tolerance")
+    if tol is not None and not isinstance(tol, dict):
+        out.append(".tolerance: %s is not an object" % _shown(tol))
+    elif tol:
+        for key, ok, what in (("threshold", lambda v: _fraction(v, 0, 255), "a number from 0 to 255"),
+                              ("max_fraction", lambda v: _fraction(v, 0, 1), "a number from 0 to 1"),
+                              ("hdr_relative", _fraction, "a number from 0"),
+                              ("flip", lambda v: v is None or _fraction(v, 0, 1), "a number from 0 to 1 or null")):
+            if key in tol and not ok(tol[key]):
+                out.append(".tolerance.%s: %s is not %s" % (key, _shown(tol[key]), what))
+    if entry.get("gl_renderer") is not None and not isinstance(entry["gl_renderer"], str):
+        out.append(".gl_renderer: %s is not a text" % _shown(entry["gl_renderer"]))
+    return out
+
+
 class Index:
-    """golden_images/index.json: {"version": 1, "goldens": {name: entry}}."""
+    """golden_images/index.json: {"version": 1, "goldens": {name: entry}}; an entry outside the shape update
+    writes is one line per field (_entry_problems) and the index is refused."""
 
     def __init__(self, golden_dir=DEFAULT_DIR):
         self.dir = os.path.abspath(golden_dir)
@@ -204,7 +277,12 @@ class Index:
             raise MtlxError((loc, "cannot read golden index: %s" % e)) from None
         if not isinstance(data, dict) or not isinstance(data.get("goldens", {}), dict):
             raise MtlxError((Loc(self.path, 1), "golden index must be an object with a 'goldens' object"))
-        return data.get("goldens", {})
+        goldens = data.get("goldens", {})
+        problems = [(Loc(self.path, 0), "goldens[%s]%s" % (_shown(name), why))
+                    for name, entry in sorted(goldens.items()) for why in _entry_problems(name, entry)]
+        if problems:
+            raise MtlxError(problems)
+        return goldens
 
     def rel(self, path):
         return os.path.relpath(os.path.abspath(path), self.root).replace(os.sep, "/")

@@ -122,3 +122,76 @@ def test_light_rig_input_of_another_type_is_one_line_at_the_input(lit, tmp_path,
     lines = problem_lines(proc)
     assert proc.returncode == 1 and len(lines) == 1, lines
     assert lines[0].startswith(str(rig) + ":4: ") and member in lines[0] and type_ in lines[0], lines
+
+
+# ---------------------------------------------------------------- a golden index from a stranger
+
+@pytest.fixture
+def golden_tree(tmp_path, doc):
+    """tmp_path/doc.mtlx with its golden in tmp_path/g (made by golden update)."""
+    proc = run_cli("golden", "update", str(doc), "--goldens", "g", "-j", "1", "--no-progress", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    return tmp_path
+
+
+def _edit_index(tree, edit):
+    import json
+    path = tree / "g" / "index.json"
+    index = json.loads(path.read_text())
+    (name, entry), = index["goldens"].items()
+    name = edit(index["goldens"], name, entry) or name
+    path.write_text(json.dumps(index))
+    return name
+
+
+def _rename(key):
+    def edit(goldens, name, entry):
+        entry["settings"]["lights"] = [{"type": 1}]         # and the check fails: images are written
+        goldens[key] = goldens.pop(name)
+    return edit
+
+
+def _set(field, value, where=None):
+    def edit(goldens, name, entry):
+        (entry if where is None else entry[where])[field] = value
+    return edit
+
+
+INDEX_EDITS = {
+    "name climbing out": (_rename("../../evil"), "goldens['../../evil']: not a file name"),
+    "absolute name": (_rename("/tmp/evil"), "goldens['/tmp/evil']: not a file name"),
+    "png absolute": (_set("png", "/etc/passwd"), ".png: '/etc/passwd' is not a file name in the golden folder"),
+    "png climbing out": (_set("png", "../secret.png"), ".png: '../secret.png' is not a file name"),
+    "png a number": (_set("png", 5), ".png: 5 is not a non-empty text"),
+    "exr a list": (_set("exr", [1]), ".exr: [1] is not a text or null"),
+    "source an object": (_set("source", {}), ".source: {} is not a non-empty text"),
+    "element gone": (lambda goldens, name, entry: entry.pop("element") and None, ".element: None is not a text"),
+    "size a billion": (_set("size", 10 ** 9, "settings"), ".settings.size: 1000000000 is not a whole number"),
+    "size negative": (_set("size", -5, "settings"), ".settings.size: -5 is not a whole number"),
+    "size true": (_set("size", True, "settings"), ".settings.size: True is not a whole number"),
+    "lights a text": (_set("lights", "x", "settings"), ".settings.lights: 'x' is not a list"),
+    "tolerance a text": (_set("tolerance", {"threshold": "abc"}), ".tolerance.threshold: 'abc' is not a number"),
+    "tolerance a list": (_set("tolerance", [1]), ".tolerance: [1] is not an object"),
+    "entry a list": (lambda goldens, name, entry: goldens.__setitem__(name, [1]), "]: [1] is not an object"),
+}
+
+
+@pytest.mark.parametrize("verb", ["check", "update"])
+@pytest.mark.parametrize("case", sorted(INDEX_EDITS))
+def test_golden_index_entry_outside_the_shape_update_writes_is_one_line(golden_tree, case, verb):
+    """golden check/update of an index a pull request brought: a name or image path that would read or write
+    outside the golden and output folders (a check wrote NAME.new.png at out/../../evil.new.png, or /tmp/evil.*;
+    copied any PNG the index named into the output), a size that aborted the process (stack smashing), values of
+    other types (internal errors): one line naming the index and the field, exit 1, nothing written."""
+    shutil.copy(golden_tree / "g" / "doc__M_checker.png", golden_tree.parent / "secret.png")
+    edit, message = INDEX_EDITS[case]
+    _edit_index(golden_tree, edit)
+    before = sorted(os.listdir(golden_tree.parent)), sorted(os.listdir(golden_tree / "g"))
+    args = ("-o", "out") if verb == "check" else ()
+    proc = run_cli("golden", verb, "--goldens", "g", "-j", "1", "--no-progress", *args, cwd=golden_tree)
+    lines = problem_lines(proc)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert len(lines) == 1 and lines[0].startswith("%s:0: goldens[" % (golden_tree / "g" / "index.json")), lines
+    assert message in lines[0], lines
+    assert (sorted(os.listdir(golden_tree.parent)), sorted(os.listdir(golden_tree / "g"))) == before
+    assert not os.path.exists("/tmp/evil.new.png") and not (golden_tree / "out").exists()
