@@ -195,3 +195,27 @@ def test_golden_index_entry_outside_the_shape_update_writes_is_one_line(golden_t
     assert message in lines[0], lines
     assert (sorted(os.listdir(golden_tree.parent)), sorted(os.listdir(golden_tree / "g"))) == before
     assert not os.path.exists("/tmp/evil.new.png") and not (golden_tree / "out").exists()
+
+
+def test_golden_image_linked_from_outside_the_golden_folder_is_not_copied(golden_tree):
+    """A golden PNG that is a symbolic link out of the golden folder (git stores links): a failing check wrote
+    the linked file's bytes (any metadata in them) as out/NAME.golden.png; now its decoded pixels are written."""
+    import numpy as np
+    import OpenImageIO as oiio
+    outside = golden_tree.parent / "private.png"
+    red = np.zeros((128, 128, 4), np.uint8)
+    red[..., 0], red[..., 3] = 200, 255
+    spec = oiio.ImageSpec(128, 128, 4, oiio.UINT8)
+    spec.attribute("Comment", "private words")
+    buf = oiio.ImageBuf(spec)
+    buf.set_pixels(oiio.ROI(), red)
+    assert buf.write(str(outside))
+    golden = golden_tree / "g" / "doc__M_checker.png"
+    golden.unlink()
+    os.symlink(outside, golden)
+    proc = run_cli("golden", "check", "--goldens", "g", "-o", "out", "-j", "1", "--no-progress", cwd=golden_tree)
+    problem_lines(proc)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    copy = golden_tree / "out" / "doc__M_checker.golden.png"
+    assert b"private words" not in copy.read_bytes() and copy.read_bytes() != outside.read_bytes()
+    assert np.array_equal(oiio.ImageBuf(str(copy)).get_pixels(oiio.UINT8), red)
