@@ -17,7 +17,8 @@ def run_cli(*args, cwd, timeout=120):
     env = dict(os.environ)
     env.pop("DISPLAY", None)            # view: the offscreen framebuffer, never a window
     env.pop("WAYLAND_DISPLAY", None)
-    return subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), *args], capture_output=True, text=True,
+    return subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), *args], capture_output=True,
+                          encoding="utf-8", errors="replace",       # (a file name not in UTF-8 is printed as is)
                           cwd=str(cwd), timeout=timeout, env=env)
 
 
@@ -219,3 +220,68 @@ def test_golden_image_linked_from_outside_the_golden_folder_is_not_copied(golden
     copy = golden_tree / "out" / "doc__M_checker.golden.png"
     assert b"private words" not in copy.read_bytes() and copy.read_bytes() != outside.read_bytes()
     assert np.array_equal(oiio.ImageBuf(str(copy)).get_pixels(oiio.UINT8), red)
+
+
+# ---------------------------------------------------------------- report
+
+def test_results_json_with_a_lone_surrogate_is_reported(golden_tree):
+    """JSON may spell a lone UTF-16 surrogate (\\ud800), which is no Unicode text: the page could not be written
+    as UTF-8 (an internal error, exit 3); now the text is shown with U+FFFD in its place."""
+    import json
+    _edit_index(golden_tree, _set("lights", [{"type": 1}], "settings"))      # the check fails: images written
+    run_cli("golden", "check", "--goldens", "g", "-o", "out", "-j", "1", "--no-progress", cwd=golden_tree)
+    results = golden_tree / "out" / "results.json"
+    data = json.loads(results.read_text())
+    data["results"][0]["message"] = ["\ud800</script>"]
+    results.write_text(json.dumps(data))
+    proc = run_cli("report", "out", cwd=golden_tree)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+    page = (golden_tree / "out" / "report.html").read_bytes().decode("utf-8")
+    assert "\ufffd&lt;/script&gt;" in page and "\ufffd</script>" not in page
+
+
+# ---------------------------------------------------------------- file names that are not UTF-8
+
+@pytest.fixture
+def latin1_named(tmp_path):
+    """tmp_path/mats/caf\\xe9.mtlx: a file name in Latin-1, not UTF-8 (Python holds it with a surrogate)."""
+    (tmp_path / "mats").mkdir()
+    name = os.path.join(os.fsencode(str(tmp_path / "mats")), b"caf\xe9.mtlx")
+    shutil.copy(CHECKER, name)
+    return tmp_path
+
+
+def test_batch_of_a_file_name_that_is_not_utf8(latin1_named):
+    """batch drew the document and failed to write its image: OpenImageIO takes no such name (exit 3, an internal
+    error on several lines)."""
+    proc = run_cli("batch", "mats", "-o", "out", "-j", "1", "--no-progress", cwd=latin1_named)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+    assert [f for f in os.listdir(latin1_named / "out") if f.endswith(".png")]
+
+
+def test_golden_update_check_and_report_of_a_file_name_that_is_not_utf8(latin1_named):
+    proc = run_cli("golden", "update", "mats", "--goldens", "g", "-j", "1", "--no-progress", cwd=latin1_named)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+    proc = run_cli("golden", "check", "mats", "--goldens", "g", "-o", "out", "-j", "1", "--no-progress",
+                   cwd=latin1_named)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+    proc = run_cli("report", "out", "--goldens", "g", cwd=latin1_named)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+
+
+@pytest.mark.parametrize("command", ["generate", "render", "info", "batch"])
+def test_usd_stage_whose_file_name_is_not_utf8_is_one_line(tmp_path, command):
+    """USD takes paths as UTF-8 text: a stage named in Latin-1 was an internal error (UnicodeEncodeError)."""
+    src = os.path.join(ROOT, "examples", "usd")
+    name = os.path.join(os.fsencode(str(tmp_path)), b"st\xe9.usda")
+    shutil.copy(os.path.join(src, "preview_stage.usda"), name)
+    for f in os.listdir(src):
+        if f.endswith(".png"):
+            shutil.copy(os.path.join(src, f), tmp_path / f)
+    stage = os.fsdecode(name)
+    args = {"generate": ("generate", stage, "-o", "out"), "render": ("render", stage, "-o", "out", "--size", "8"),
+            "info": ("info", stage), "batch": ("batch", str(tmp_path), "-o", "out", "-j", "1", "--no-progress")}
+    proc = run_cli(*args[command], cwd=tmp_path)
+    lines = problem_lines(proc)
+    assert proc.returncode == 1 and len(lines) == 1 and "not UTF-8" in lines[0], lines
+    assert lines[0].startswith(os.path.join(str(tmp_path), "st\\udce9.usda:0: ")), lines
