@@ -131,9 +131,23 @@ def _config(associated):
     return config
 
 
+NOT_UTF8 = "named by a path that is not UTF-8 text (OpenImageIO opens no such path: rename it)"
+
+
+def _utf8(path):
+    """Whether OpenImageIO can take `path`: a name in another encoding is held with surrogates, no UTF-8 text."""
+    try:
+        path.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 def _open(path, associated, lines):
     """(ImageInput, its spec), or (None, why: "not an image (...)") where the file does not read as one."""
     import OpenImageIO as oiio
+    if not _utf8(path):
+        return None, NOT_UTF8
     inp = oiio.ImageInput.open(path, _config(associated))
     if inp is None:
         return None, "not an image (%s)" % first_message(_oiio_errors(), "\n".join(lines))
@@ -160,7 +174,7 @@ def _header_problem(spec):
 def image_header(path):
     """(format name, width, height, 8-bit) from an image file's header, without decoding it; None where the file
     is not a regular file (of at most the image size cap) or does not read as an image."""
-    if regular_file_problem(path, "image") is not None:
+    if regular_file_problem(path, "image") is not None or not _utf8(path):
         return None
     import OpenImageIO as oiio
     with captured_stderr():
@@ -320,6 +334,8 @@ def _lcm(a, b):
 def write_image(path, img):
     """Write a linear float image: .png/.jpg as sRGB 8-bit, .exr/.hdr as linear half/float."""
     import OpenImageIO as oiio
+    if not _utf8(os.path.abspath(path)):
+        raise MtlxError((Loc(path, 0), "cannot write image: %s" % NOT_UTF8.replace("opens", "writes")))
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     img = np.ascontiguousarray(img)
     h, w, c = img.shape

@@ -285,3 +285,43 @@ def test_usd_stage_whose_file_name_is_not_utf8_is_one_line(tmp_path, command):
     lines = problem_lines(proc)
     assert proc.returncode == 1 and len(lines) == 1 and "not UTF-8" in lines[0], lines
     assert lines[0].startswith(os.path.join(str(tmp_path), "st\\udce9.usda:0: ")), lines
+
+
+@pytest.fixture
+def latin1_folder(tmp_path):
+    """tmp_path/d\\xfe (a folder named in Latin-1) holding doc.mtlx, which names its texture t.png beside it,
+    t.png and env.png."""
+    import numpy as np
+    folder = os.path.join(os.fsencode(str(tmp_path)), b"d\xfe")
+    os.mkdir(folder)
+    png = str(tmp_path / "one.png")
+    from mtlxgen.images import write_image
+    write_image(png, np.ones((2, 2, 3), np.float32))
+    for name in (b"t.png", b"env.png"):
+        shutil.copy(png, os.path.join(folder, name))
+    with open(os.path.join(folder, b"doc.mtlx"), "w") as f:
+        f.write('<?xml version="1.0"?>\n<materialx version="1.39">\n'
+                '  <image name="c" type="color3"><input name="file" type="filename" value="t.png" /></image>\n'
+                '  <standard_surface name="S" type="surfaceshader">\n'
+                '    <input name="base_color" type="color3" nodename="c" />\n  </standard_surface>\n'
+                '  <surfacematerial name="M" type="material">\n'
+                '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n'
+                '</materialx>\n')
+    return os.fsdecode(folder)
+
+
+@pytest.mark.parametrize("command", ["render", "web", "three", "batch", "view", "env", "output"])
+def test_images_under_a_folder_name_that_is_not_utf8_are_one_line(latin1_folder, tmp_path, lit, command):
+    """OpenImageIO takes paths as UTF-8 text: a texture, an environment or an output under a folder named in
+    Latin-1 was an internal error (a TypeError from the binding, on several lines)."""
+    doc = os.path.join(latin1_folder, "doc.mtlx")
+    args = {"render": ("render", doc, "-o", "out", "--size", "8"),
+            "web": ("web", doc, "-o", "out", "--size", "8"),
+            "three": ("three", doc, "-o", "out"),
+            "batch": ("batch", latin1_folder, "-o", "out", "-j", "1", "--no-progress"),
+            "view": ("view", doc, "--headless-frames", "1", "--no-watch", "--no-panel", "--size", "8", "8"),
+            "env": ("render", str(lit), "-o", "out", "--size", "8", "--env", os.path.join(latin1_folder, "env.png")),
+            "output": ("render", str(lit), "-o", os.path.join(latin1_folder, "out"), "--size", "8")}[command]
+    proc = run_cli(*args, cwd=tmp_path)
+    lines = problem_lines(proc)
+    assert proc.returncode == 1 and len(lines) == 1 and "not UTF-8" in lines[0], lines
