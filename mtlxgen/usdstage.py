@@ -1187,7 +1187,7 @@ class _StageReader:
         anchored = _anchor(layer, authored)
         notes.append((self.attr_loc(attr), "texture '%s' not found (looked for %s); drawing the fallback %s"
                       % (authored, anchored, self.fallback_text(attr, node_spec))))
-        return anchored if "[" not in anchored else authored
+        return anchored if "[" not in anchored else ""     # (inside a package: no file beside it is meant)
 
     def image_problem(self, local):
         """images.image_problem of a texture file (its header read once per file)."""

@@ -325,3 +325,58 @@ def test_images_under_a_folder_name_that_is_not_utf8_are_one_line(latin1_folder,
     proc = run_cli(*args, cwd=tmp_path)
     lines = problem_lines(proc)
     assert proc.returncode == 1 and len(lines) == 1 and "not UTF-8" in lines[0], lines
+
+
+# ---------------------------------------------------------------- .usdz packages
+
+USDZ_MATERIAL = '''#usda 1.0
+def Scope "Looks"
+{
+    def Material "M"
+    {
+        token outputs:surface.connect = </Looks/M/Surface.outputs:surface>
+        def Shader "Surface"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor.connect = </Looks/M/Texture.outputs:rgb>
+            token outputs:surface
+        }
+        def Shader "Texture"
+        {
+            uniform token info:id = "UsdUVTexture"
+            asset inputs:file = @%s@
+            float3 outputs:rgb
+        }
+    }
+}
+'''
+
+
+def _usdz(path, texture):
+    import zipfile
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_STORED) as z:
+        z.writestr("root.usda", USDZ_MATERIAL % texture)
+    return str(path)
+
+
+@pytest.mark.parametrize("command", ["generate", "render", "three"])
+def test_usdz_texture_climbing_out_of_its_package_is_not_read(tmp_path, command):
+    """A packaged layer naming '../outside.png', which is not in the package: the stage said 'not found,
+    drawing the fallback', then the renderer bound outside.png beside the package's folder (three re-encoded it
+    into its output); and a name reaching a file that is no image left OpenImageIO's error pending, printed on
+    several lines at exit."""
+    import numpy as np
+    from mtlxgen.images import write_image
+    (tmp_path / "pkg").mkdir()
+    write_image(str(tmp_path / "outside.png"), np.full((4, 4, 3), 0.5, np.float32))
+    (tmp_path / "notes.txt").write_text("private\n")
+    for texture in ("../outside.png", "../notes.txt"):
+        stage = _usdz(tmp_path / "pkg" / "s.usdz", texture)
+        args = ("-o", "out") + (("--size", "8") if command == "render" else ())
+        proc = run_cli(command, stage, *args, cwd=tmp_path)
+        lines = problem_lines(proc)
+        assert lines and all(line.startswith(stage + ":/Looks/M/Texture.inputs:file: ") for line in lines), lines
+        assert "not found" in lines[0] and len(lines) == 1, lines
+        if command == "three":
+            assert not [f for _, _, files in os.walk(tmp_path / "out") for f in files
+                        if f.endswith((".png", ".exr")) and not f.startswith("environment")], texture

@@ -136,17 +136,21 @@ def file_info(path):
     """{channels, bits8, linear_claim, wrapS, wrapT} of an image file from its header, or None."""
     if not path or regular_file_problem(path) is not None:     # no devices, FIFOs or /proc (files.py)
         return None
+    from ..images import _oiio_errors, captured_stderr
     try:
         import OpenImageIO as oiio
-        inp = oiio.ImageInput.open(path)
-        if inp is None:
-            return None
-        try:
-            spec = inp.spec()
-            attrs = {a.name: a.value for a in spec.extra_attribs}
-            fmt = str(spec.format)
-        finally:
-            inp.close()
+        with captured_stderr():
+            inp = oiio.ImageInput.open(path)
+            if inp is None:
+                _oiio_errors()          # taken: a pending error is printed on several lines at exit
+                return None
+            try:
+                spec = inp.spec()
+                attrs = {a.name: a.value for a in spec.extra_attribs}
+                fmt = str(spec.format)
+            finally:
+                inp.close()
+                _oiio_errors(inp)
     except Exception:
         return None
     cs = str(attrs.get("oiio:ColorSpace", "")).lower()
