@@ -61,21 +61,13 @@ class Tolerance:
 def golden_name(path, element):
     """FILE__ELEMENT: the element's part as generate names its files (emit.file_stem: '/' as '_', and safe
     and bounded for any name a document holds); FILE alone for no element (a document that cannot be read).
-    A file name that is not UTF-8 (held with surrogates, which no image library or JSON reader takes) is made
-    safe as element names are."""
+    A file name with a line break or another control character (which the index refuses), or one that is not
+    UTF-8 (held with surrogates, which no image library or JSON reader takes), is made safe as element names are."""
     from .emit import file_stem
     stem = os.path.splitext(os.path.basename(path))[0]
-    if not _is_unicode(stem):
+    if not stem.isprintable():
         stem = file_stem(stem)
     return "%s__%s" % (stem, file_stem(element)) if element else stem     # (no element: a file-wide problem)
-
-
-def _is_unicode(text):
-    try:
-        text.encode("utf-8")
-    except UnicodeEncodeError:
-        return False
-    return True
 
 
 def is_hdr(img):

@@ -380,3 +380,15 @@ def test_usdz_texture_climbing_out_of_its_package_is_not_read(tmp_path, command)
         if command == "three":
             assert not [f for _, _, files in os.walk(tmp_path / "out") for f in files
                         if f.endswith((".png", ".exr")) and not f.startswith("environment")], texture
+
+
+def test_golden_of_a_file_name_with_a_line_break_is_checked(tmp_path):
+    """A document named 'a\\nb.mtlx': golden update wrote an index entry 'a\\nb__M_checker' that the index's own
+    check refuses (a golden's name is a plain file name), so golden check of it failed on the index."""
+    (tmp_path / "mats").mkdir()
+    shutil.copy(CHECKER, tmp_path / "mats" / "a\nb.mtlx")
+    proc = run_cli("golden", "update", "mats", "--goldens", "g", "-j", "1", "--no-progress", cwd=tmp_path)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+    proc = run_cli("golden", "check", "--goldens", "g", "-o", "out", "-j", "1", "--no-progress", cwd=tmp_path)
+    assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
+    assert all(name.isprintable() for name in os.listdir(tmp_path / "g"))
