@@ -89,9 +89,12 @@ def read_keep_file(path):
             data = json.loads(text)
         except ValueError as e:
             raise MtlxError((Loc(path, getattr(e, "lineno", 0)), "not a JSON list of names: %s" % e.msg)) from None
-        if isinstance(data, dict):
-            data = data.get("kept", None) if "kept" in data else [u.get("name") if isinstance(u, dict) else u
-                                                                   for u in data.get("uniforms", [])]
+        except RecursionError:
+            raise MtlxError((Loc(path, 1), "not a JSON list of names: nested too deeply")) from None
+        if isinstance(data, dict) and "kept" in data:
+            data = data["kept"]
+        elif isinstance(data, dict) and isinstance(data.get("uniforms", []), list):
+            data = [u.get("name") if isinstance(u, dict) else u for u in data.get("uniforms", [])]
         if not isinstance(data, list):
             raise MtlxError((Loc(path, 1), "a JSON keep file is a list of names (or a manifest with \"uniforms\")"))
         out = []

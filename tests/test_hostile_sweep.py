@@ -392,3 +392,22 @@ def test_golden_of_a_file_name_with_a_line_break_is_checked(tmp_path):
     proc = run_cli("golden", "check", "--goldens", "g", "-o", "out", "-j", "1", "--no-progress", cwd=tmp_path)
     assert problem_lines(proc) == [] and proc.returncode == 0, proc.stdout + proc.stderr
     assert all(name.isprintable() for name in os.listdir(tmp_path / "g"))
+
+
+# ---------------------------------------------------------------- --keep-file
+
+@pytest.mark.parametrize("text, message", [
+    ('{"uniforms": 5}', 'a JSON keep file is a list of names'),
+    ('{"uniforms": "abc"}', 'a JSON keep file is a list of names'),
+    ("[" * 100000 + "]" * 100000, "nested too deeply"),
+])
+def test_keep_file_of_another_shape_is_one_line_naming_it(doc, tmp_path, text, message):
+    """A keep file whose "uniforms" is no list (an internal error iterating an int), or JSON nested past Python's
+    recursion limit (a line blaming the document, with no line number)."""
+    keep = tmp_path / "keep.json"
+    keep.write_text(text)
+    proc = run_cli("generate", str(doc), "-o", "out", "--interface", "reduced", "--keep-file", str(keep),
+                   cwd=tmp_path)
+    lines = problem_lines(proc)
+    assert proc.returncode == 1 and len(lines) == 1 and lines[0].startswith(str(keep) + ":1: "), lines
+    assert message in lines[0], lines
