@@ -57,7 +57,7 @@ class Shader:
             for ext, text in ((".vert", self.vertex), (".frag", self.fragment),
                               (".json", json.dumps(manifest, indent=1) + "\n")):
                 p = os.path.join(out_dir, self.stem + ext)
-                write_atomic(p, text)
+                write_atomic(p, text, durable=False)    # made again by running generate again: no fsyncs
                 paths.append(p)
         except OSError as e:
             raise MtlxError((Loc(p, 0), "cannot write: %s" % (e.strerror or e))) from None

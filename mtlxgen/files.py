@@ -268,7 +268,7 @@ def _temp_beside(path, suffix=""):
     return tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path)[:80] + ".", suffix=suffix or ".tmp")
 
 
-def _finish(tmp, path, mode):
+def _finish(tmp, path, mode, durable=True):
     """Give the temp file its mode (and the replaced file's owner), then rename it over `path`."""
     try:
         old = os.lstat(path)
@@ -283,6 +283,8 @@ def _finish(tmp, path, mode):
         except OSError:
             pass                        # not permitted (not root): the writer's own, as any editor leaves it
     os.replace(tmp, path)               # a symlink at `path` is replaced, not followed
+    if not durable:
+        return
     try:
         dfd = os.open(os.path.dirname(os.path.abspath(path)) or ".", os.O_RDONLY)
     except OSError:
@@ -302,10 +304,12 @@ def _named(error, path):
     return error
 
 
-def write_atomic(path, data, mode=None):
+def write_atomic(path, data, mode=None, durable=True):
     """Write `data` (bytes, or str as UTF-8) to `path` all at once: a temporary file beside it, fsync, rename.
     A crash leaves the old file whole; a symlink at `path` is replaced by the file, never followed. `mode`:
-    permission bits; default: the replaced regular file's, else 0666 less the umask."""
+    permission bits; default: the replaced regular file's, else 0666 less the umask. durable=False skips the
+    fsyncs (a reader still never sees half a file): for scratch files and outputs made again by running the
+    command again, where thousands of fsyncs would cost more than the work (glslvalidate's stage files)."""
     if isinstance(data, str):
         data = data.encode("utf-8")
     try:
@@ -315,9 +319,10 @@ def write_atomic(path, data, mode=None):
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        _finish(tmp, path, mode)
+            if durable:
+                f.flush()
+                os.fsync(f.fileno())
+        _finish(tmp, path, mode, durable)
     except BaseException as e:
         try:
             os.unlink(tmp)

@@ -58,7 +58,7 @@ def validate(shader, tmp_dir, target="glsl"):
     errors, paths = [], {}
     for stage, text in (("vert", shader.vertex), ("frag", shader.fragment)):
         path = paths[stage] = os.path.join(tmp_dir, "%s.%s.%s" % (shader.stem, target, stage))
-        write_atomic(path, text)        # (a symlink left at the path is replaced, not written through)
+        write_atomic(path, text, durable=False)     # a scratch file: a symlink there replaced, no fsync
         if target != "vulkan":
             r = run_tool([GLSLANG, path])
             if r.returncode:

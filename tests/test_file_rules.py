@@ -120,3 +120,12 @@ def test_a_refused_write_names_the_output_not_the_temporary_file(tmp_path):
         files.write_atomic(str(tmp_path / "missing" / "M.frag"), "x")
     assert e.value.filename == str(tmp_path / "missing" / "M.frag")
     assert sorted(os.listdir(tmp_path)) == ["M.frag"]
+
+
+def test_a_scratch_write_without_fsync_still_replaces_a_symlink(tmp_path):
+    target = tmp_path / "elsewhere.txt"
+    target.write_text("keep me")
+    os.symlink(str(target), tmp_path / "s.frag")
+    files.write_atomic(str(tmp_path / "s.frag"), "scratch", durable=False)
+    assert target.read_text() == "keep me" and (tmp_path / "s.frag").read_text() == "scratch"
+    assert not os.path.islink(tmp_path / "s.frag")
