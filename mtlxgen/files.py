@@ -312,29 +312,17 @@ def write_atomic(path, data, mode=None, durable=True):
     command again, where thousands of fsyncs would cost more than the work (glslvalidate's stage files)."""
     if isinstance(data, str):
         data = data.encode("utf-8")
-    try:
-        fd, tmp = _temp_beside(path)
-    except OSError as e:
-        raise _named(e, path) from None
-    try:
-        with os.fdopen(fd, "wb") as f:
+
+    def write(tmp):
+        with open(tmp, "wb") as f:
             f.write(data)
-            if durable:
-                f.flush()
-                os.fsync(f.fileno())
-        _finish(tmp, path, mode, durable)
-    except BaseException as e:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise _named(e, path) from None
-    return path
+    return write_through_temp(path, write, mode, durable)
 
 
-def write_through_temp(path, writer, mode=None):
-    """Like write_atomic for a library that writes files itself (OpenImageIO): writer(temp path) writes a file
-    whose name ends as `path` does (the format follows the extension); then it is renamed over `path`."""
+def write_through_temp(path, writer, mode=None, durable=True):
+    """write_atomic for a writer of files (OpenImageIO, or write_atomic's own): writer(temp path) writes a file
+    whose name ends as `path` does (the format follows the extension); then it is flushed to disk (durable) and
+    renamed over `path`."""
     try:
         fd, tmp = _temp_beside(path, suffix=".tmp" + os.path.splitext(path)[1])
     except OSError as e:
@@ -342,9 +330,10 @@ def write_through_temp(path, writer, mode=None):
     os.close(fd)
     try:
         writer(tmp)
-        with open(tmp, "rb") as f:
-            os.fsync(f.fileno())
-        _finish(tmp, path, mode)
+        if durable:
+            with open(tmp, "rb") as f:
+                os.fsync(f.fileno())
+        _finish(tmp, path, mode, durable)
     except BaseException as e:
         try:
             os.unlink(tmp)

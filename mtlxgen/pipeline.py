@@ -1,4 +1,5 @@
 """The whole pipeline for one document: read, resolve, build each element's graph, emit GLSL."""
+import copy
 import os
 
 from . import document, emit, glslcheck, graph, is_usd, library, nodes, targets
@@ -54,6 +55,7 @@ class Session:
         self.element_notes = {}             # element name -> [(Loc, message)]: its textures that cannot be read
         self.unreadable = {}                # element name -> {sampler uniform}: those textures' uniforms
         self.texture_inputs = {}            # element name -> {sampler uniform: Loc of the input naming its file}
+        self._doc_names_unreadable = None   # _names_unreadable_textures(), once known
         try:
             self.doc = load_document(path, library_dirs, usd_options)
         except MtlxError as e:          # the document's warnings too, met before its problems
@@ -137,35 +139,31 @@ class Session:
         """`shader` as whatever draws it binds it: a texture file that cannot be read (notes()) left out of its
         manifest, so the image's default is drawn and nothing opens the file (a FIFO, a device); and where each
         file it binds is named (Shader.texture_inputs: a file that does not decode is reported there, at_inputs)."""
-        self.notes(name)
+        if not shader.manifest.get("textures"):
+            return shader
         if name not in self.texture_inputs:         # made from a kept template: its graph, for where its files are
             self.graph(name)
-        inputs = self.texture_inputs.get(name, {})
-        left_out = self.unreadable.get(name, ())
-        import copy
+        inputs, left_out = self.texture_inputs[name], self.unreadable.get(name, ())
         shader = copy.copy(shader)
         shader.manifest = dict(shader.manifest, textures=[
-            dict(t, file="") if t.get("uniform") in left_out else t for t in shader.manifest.get("textures", ())])
+            dict(t, file="") if t.get("uniform") in left_out else t for t in shader.manifest["textures"]])
         shader.texture_inputs = {t["file"]: inputs[t["uniform"]] for t in shader.manifest["textures"]
                                  if t.get("file") and t.get("uniform") in inputs}
         return shader
 
-    def _may_have_unreadable_textures(self):
-        """Whether any filename input the document writes names a file that cannot be read (once per session):
+    def _names_unreadable_textures(self):
+        """Whether any filename input the document writes names a texture that cannot be read (once per session):
         where none does, an element not built here (kept elements) has no texture notes."""
-        if getattr(self, "_unreadable", None) is None:
+        if self._doc_names_unreadable is None:
             ports = list(self.doc.inputs.values())
             for owner in list(self.doc.nodes.values()) + list(self.doc.nodegraphs.values()):
                 ports += owner.inputs.values()
             for ng in self.doc.nodegraphs.values():
                 for node in ng.nodes.values():
                     ports += node.inputs.values()
-            values = {p.value for p in ports if p.type == "filename" and isinstance(p.value, str) and p.value.strip()}
-            from .files import regular_file_problem
-            from .resolve import resolve_file
-            self._unreadable = any(resolve_file(v, self.path) is None or regular_file_problem(resolve_file(v, self.path))
-                                   for v in values if "<UDIM>" not in v and "<UVTILE>" not in v)
-        return self._unreadable
+            values = {p.value for p in ports if p.type == "filename"}
+            self._doc_names_unreadable = any(texture_problem(v, self.path) for v in values)
+        return self._doc_names_unreadable
 
     def notes(self, name=None):
         """Problems that leave an element drawn (a texture not found: its default or fallback is drawn); with no
@@ -173,7 +171,7 @@ class Session:
         if self.stage is None:
             if name is None:
                 return []
-            if name not in self.element_notes and self._may_have_unreadable_textures():
+            if name not in self.element_notes and self._names_unreadable_textures():
                 self.graph(name)        # made from a kept template (elementcache.py): built here for its notes
             return list(self.element_notes.get(name, ()))
         if name is None:
@@ -182,29 +180,32 @@ class Session:
         return list(m.notes) if m is not None else []
 
 
-def texture_notes(g, doc_path):
-    """[(uniform, Loc, message)] for each texture file of graph `g` (a .mtlx document's) that cannot be read: not found
-    (with where it was looked for), or not a regular file. The shader is valid all the same (the image node's
-    default is drawn), so generate reports them as warnings and everything that draws as problems."""
+def texture_problem(value, doc_path):
+    """Why the texture file a filename value names cannot be read (a message naming it), or None: none named,
+    found and a regular file within the image cap, or a tile pattern (emission finds tiles and refuses a
+    pattern without any: emit.py)."""
     from .files import quoted, regular_file_problem
     from .resolve import resolve_file
+    if not isinstance(value, str) or not value.strip() or "<UDIM>" in value or "<UVTILE>" in value:
+        return None
+    found = resolve_file(value, doc_path)
+    if found is None:
+        looked = value if os.path.isabs(value) else os.path.join(os.path.dirname(os.path.abspath(doc_path)), value)
+        return ("texture %s not found (looked for %s and in the search paths); the image's default is drawn"
+                % (quoted(value), looked))
+    why = regular_file_problem(found, "image")
+    return None if why is None else "texture %s is %s; the image's default is drawn" % (quoted(value), why)
+
+
+def texture_notes(g, doc_path):
+    """[(uniform, Loc, message)] for each texture file of graph `g` (a .mtlx document's) that cannot be read
+    (texture_problem). The shader is valid all the same (the image node's default is drawn), so generate reports
+    them as warnings and everything that draws as problems."""
     notes = []
     for u in g.uniforms.values():
-        if u.type != "filename" or not isinstance(u.value, str) or not u.value.strip():
-            continue
-        loc = u.loc or Loc(doc_path, 0)
-        if "<UDIM>" in u.value or "<UVTILE>" in u.value:
-            continue            # tiles: emission finds them, and refuses a pattern without any (emit.py)
-        found = resolve_file(u.value, doc_path)
-        if found is None:
-            looked = u.value if os.path.isabs(u.value) else os.path.join(
-                os.path.dirname(os.path.abspath(doc_path)), u.value)
-            notes.append((u.name, loc, "texture %s not found (looked for %s and in the search paths); the image's "
-                               "default is drawn" % (quoted(u.value), looked)))
-            continue
-        why = regular_file_problem(found, "image")
+        why = texture_problem(u.value, doc_path) if u.type == "filename" else None
         if why is not None:
-            notes.append((u.name, loc, "texture %s is %s; the image's default is drawn" % (quoted(u.value), why)))
+            notes.append((u.name, u.loc or Loc(doc_path, 0), why))
     return notes
 
 
