@@ -22,7 +22,6 @@ FILE:LINE: ...: not saved.
 import bisect
 import codecs
 import hashlib
-import importlib
 import os
 import re
 from dataclasses import dataclass, field
@@ -301,7 +300,6 @@ _INDENT = re.compile(r"[ \t]*")
 _NAME = re.compile(r"[^ \t\r\n/>=<\"'!?]+")
 _REF = re.compile(r"&(#x[0-9a-fA-F]+|#[0-9]+|lt|gt|amp|quot|apos);|\r\n|[\r\n\t]")
 _ENTITY = {"lt": "<", "gt": ">", "amp": "&", "quot": '"', "apos": "'"}
-_DECLARATION = re.compile(rb"<\?xml[^>]*?\sencoding\s*=\s*([\"'])(.*?)\1")
 
 
 class _ScanError(Exception):
@@ -461,38 +459,23 @@ class _Lines:
         return bisect.bisect_right(self.ends, offset) + 1
 
 
-def _single_byte(codec):
-    try:
-        return hasattr(importlib.import_module("encodings." + codec.replace("-", "_")), "decoding_table")
-    except ImportError:
-        return False
-
-
 def _encoding(data, loc):
-    """(byte-order mark, codec) of a document's bytes, decided as the XML reader decides: a byte-order mark,
-    UTF-16 without one from its first character '<', the XML declaration's encoding, else UTF-8."""
-    if data.startswith((codecs.BOM_UTF32_LE, codecs.BOM_UTF32_BE)):
-        raise MtlxError((loc, "cannot save into UTF-32 text: not saved"))
-    for bom, codec in ((codecs.BOM_UTF8, "utf-8"), (codecs.BOM_UTF16_LE, "utf-16-le"),
-                       (codecs.BOM_UTF16_BE, "utf-16-be")):
-        if data.startswith(bom):
-            return bom, codec
-    if data.startswith(b"<\0"):
-        return b"", "utf-16-le"
-    if data.startswith(b"\0<"):
-        return b"", "utf-16-be"
-    m = _DECLARATION.match(data[:1024])
-    if not m:
-        return b"", "utf-8"
-    name = m.group(2).decode("ascii", "replace")
+    """(byte-order mark, codec) of a document's bytes: the XML reader's decision (xmlreader._encoding_of: a
+    byte-order mark, UTF-16 without one from its first character '<', the XML declaration's encoding, else
+    UTF-8), with the mark split off so that the edited text is encoded without it and the mark kept as it was."""
+    from .xmlreader import _encoding_of
     try:
-        codec = codecs.lookup(name).name
-    except (LookupError, ValueError):
-        codec = None
+        codec = _encoding_of(data, loc.file)
+    except MtlxError as e:
+        raise MtlxError((loc, "cannot save: %s: not saved" % e.problems[0][1])) from None
     if codec == "utf-8-sig":
-        codec = "utf-8"
-    if codec is None or not (codec in ("utf-8", "ascii", "iso8859-1") or _single_byte(codec)):
-        raise MtlxError((loc, "cannot save into text of encoding '%s': not saved" % name))
+        return (codecs.BOM_UTF8 if data.startswith(codecs.BOM_UTF8) else b""), "utf-8"
+    if codec == "utf-16":
+        for bom, name in ((codecs.BOM_UTF16_LE, "utf-16-le"), (codecs.BOM_UTF16_BE, "utf-16-be")):
+            if data.startswith(bom):
+                return bom, name
+        raise MtlxError((loc, "cannot save into UTF-16 text without a byte-order mark declared as 'utf-16': "
+                              "not saved"))
     return b"", codec
 
 

@@ -279,7 +279,6 @@ def read_image(path, loc=None, what=None, budget=None, reduce=False, associated=
 def _decode(inp, spec, channels, f):
     """The image's first `channels` channels as float32 (h/f, w/f, channels), band by band; None where a read
     fails (the reader's error is pending)."""
-    import OpenImageIO as oiio
     w, h = spec.width, spec.height
     tw, th = (spec.tile_width, spec.tile_height) if spec.tile_width else (0, 0)
     if tw:          # whole tiles: a band of tile rows, as many tile columns a read as fit BAND_BYTES
