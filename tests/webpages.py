@@ -6,7 +6,6 @@ import functools
 import http.server
 import os
 import shutil
-import subprocess
 import threading
 
 import numpy as np
@@ -166,32 +165,23 @@ class Server:
         self.httpd.server_close()
 
 
+def three_cache():
+    """The folder .ci/run installs three.js into with npm (`npm install --prefix FOLDER three`)."""
+    return os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "mtlxgen", "npm")
+
+
 def npm_three():
-    """node_modules/three from npm: MTLXGEN_THREE_DIR, else a cache folder (.ci/run installs it there; where
-    it is absent, npm installs it now). Skips, saying why, without npm or where the install fails."""
+    """node_modules/three as npm installed it: MTLXGEN_THREE_DIR, else the cache folder .ci/run installs it into.
+    The tests never install it themselves (they never reach the network): without it they skip, saying how to
+    install it."""
     given = os.environ.get("MTLXGEN_THREE_DIR")
     if given:
         if not os.path.isfile(os.path.join(given, "build", "three.module.js")):
             pytest.skip("MTLXGEN_THREE_DIR=%s holds no build/three.module.js" % given)
         return given
-    cache = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "mtlxgen", "npm")
+    cache = three_cache()
     three = os.path.join(cache, "node_modules", "three")
     if os.path.isfile(os.path.join(three, "build", "three.module.js")):
         return three
-    npm = shutil.which("npm")
-    if npm is None:
-        pytest.skip("npm is not installed: three.js comes from npm (apt-get install npm; npm install three)")
-    os.makedirs(cache, exist_ok=True)
-    import fcntl
-    with open(os.path.join(cache, ".install.lock"), "w") as lock:     # xdist workers install it once
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if os.path.isfile(os.path.join(three, "build", "three.module.js")):
-            return three
-        try:
-            r = subprocess.run([npm, "install", "--prefix", cache, "--no-audit", "--no-fund", "--loglevel=error",
-                                "three"], capture_output=True, text=True, timeout=300)
-        except subprocess.TimeoutExpired:
-            pytest.skip("npm install three did not finish in 300 s (offline?)")
-    if r.returncode != 0 or not os.path.isfile(os.path.join(three, "build", "three.module.js")):
-        pytest.skip("npm install three failed: %s" % (r.stderr.strip().splitlines() or ["?"])[-1])
-    return three
+    pytest.skip("three.js is not installed: `npm install --prefix %s three` (as .ci/run does), or set "
+                "MTLXGEN_THREE_DIR to a node_modules/three" % cache)
