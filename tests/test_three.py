@@ -3,8 +3,9 @@
 The example page each element gets (three from npm linked beside it, served over HTTP on 127.0.0.1 as ES
 modules need) is opened in headless Chromium (Debian's, WebGL2 on SwiftShader, driven by playwright); its
 canvas is compared with the renderer's image of the same element, camera, size and samples. The module's
-API is also checked in Node without a browser. Without an installed three (MTLXGEN_THREE_DIR, or the cache folder
-.ci/run installs it into: the tests never install it), chromium or playwright, the tests that need them skip, saying why."""
+API is also checked in Node without a browser. Without an installed three (MTLXGEN_THREE_DIR, or the cache
+folder .ci/run installs it into: the tests never install it), chromium or playwright, the tests that need them
+skip, saying why."""
 import json
 import os
 import shutil
