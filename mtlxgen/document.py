@@ -295,8 +295,10 @@ def build(root, path, source="document"):
     """XElement tree of one file (includes spliced) -> Document. Raises MtlxError listing all problems."""
     version = root.get("version", "1.39")
     from .upgrade import upgrade_tree       # an older document is read as the 1.39 one it stands for
-    root = upgrade_tree(root)
+    assumed = []
+    root = upgrade_tree(root, assumed)
     doc = Document(path=path, version=version, colorspace=root.get("colorspace"))
+    doc.warnings.extend(assumed)
     problems = Problems()
     b = _Builder(doc, problems)
     ctx = _child_ctx({}, root)
@@ -524,8 +526,17 @@ def _substitute_tokens(doc):
 @gc_paused()
 def load(path, search_paths=(), source="document"):
     """Read and build a document from a .mtlx file."""
-    root = read_file(path, search_paths)
-    return build(root, path, source)
+    read_slips = []         # slips of the XML itself (text before the declaration, after the root element)
+    root = read_file(path, search_paths, warnings=read_slips)
+    if not read_slips:
+        return build(root, path, source)
+    try:
+        doc = build(root, path, source)
+    except MtlxError as e:
+        e.warnings[:0] = read_slips
+        raise
+    doc.warnings[:0] = read_slips
+    return doc
 
 
 def load_upgraded(path, library_dirs=()):

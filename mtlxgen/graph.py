@@ -16,6 +16,9 @@ from .graphtypes import (IDENTIFIER_CHARS, GNode, Graph, Source, Uniform,  # noq
                          glsl_identifier, unique_identifier)
 from .renamed_inputs import renamed_input_message
 
+# a float port connected to one of these reads its first component (Builder.first_component)
+_FIRST_COMPONENT = {"color3": "r", "color4": "r", "vector2": "x", "vector3": "x", "vector4": "x"}
+
 
 # Nodes of one scope are instantiated without recursion (GraphBuilder.instantiate); what still recurses
 # is one scope inside another (a nodegraph output read by another nodegraph, an implementation inside an
@@ -360,11 +363,34 @@ class GraphBuilder:
         want = want or port.type
         if src.type == want:
             return src
+        if want == "float" and src.type in _FIRST_COMPONENT:
+            return self.first_component(port, src, what)
         if not mxtypes.interchangeable(src.type, want):
             raise MtlxError((port.loc, "%s has type %s but is connected to a value of type %s" % (what, want, src.type)))
         self.warn(port.loc, "%s has type %s but is connected to a value of type %s: passed through as %s, as "
                             "MaterialX does (both are %s in GLSL)" % (what, want, src.type, want, mxtypes.glsl_type(want)))
         return replace(src, type=want)
+
+    def first_component(self, port, src, what):
+        """A float port connected to a colour or vector: its first component (r or x), warned. MaterialX's GLSL
+        assigns the vector to the float (`float x = v;`), which drivers that accept it (NVIDIA's) read as the
+        first component and others (Mesa's) refuse to compile."""
+        self.warn(port.loc, "%s has type float but is connected to a value of type %s: reads its first component "
+                            "(%s), as MaterialX's GLSL does where its shader compiles" % (what, src.type,
+                                                                                         _FIRST_COMPONENT[src.type]))
+        if src.literal:
+            value = src.value
+            return Source("float", value=float(value[0]) if isinstance(value, (tuple, list)) else value, loc=port.loc)
+        nd = self.lib.nodedefs.get("ND_extract_" + src.type)
+        if nd is None:
+            raise MtlxError((port.loc, "%s has type float but is connected to a value of type %s (no extract "
+                                       "nodedef in the libraries to read its first component)" % (what, src.type)))
+        ident = self.new_id("%s_first" % (src.node or src.uniform or "value"))
+        self.nodes[ident] = GNode(id=ident, category=nd.category, nodedef=nd,
+                                  inputs={"in": src, "index": Source("integer", value=0, loc=port.loc)},
+                                  outputs={o.name: o.type for o in nd.outputs.values()}, loc=port.loc)
+        self.order.append(ident)
+        return Source("float", node=ident, output="out", loc=port.loc)
 
     # ---------- nodes ----------
     def geom_source(self, geomprop_name, loc, scope):

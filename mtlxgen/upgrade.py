@@ -37,14 +37,15 @@ def version_of(text):
         return LATEST
 
 
-def upgrade_tree(root):
-    """Rewrite a <materialx> element tree older than 1.39 in place; returns it (marked 1.39)."""
+def upgrade_tree(root, warnings=None):
+    """Rewrite a <materialx> element tree older than 1.39 in place; returns it (marked 1.39). warnings: a list
+    that receives (Loc, message) where the upgrade assumes what an older document meant (as MaterialX does)."""
     v = version_of(root.get("version"))
     if v >= LATEST:
         return root
     for step_version, step in _STEPS:
         if v < step_version:
-            step(root)
+            step(root, [] if warnings is None else warnings)
     root.attrs["version"] = "%d.%d" % LATEST
     return root
 
@@ -289,7 +290,7 @@ def _swizzle_nodes(root):
 
 # ---------------------------------------------------------------- 1.22 - 1.26: opgraphs, shaders, materials
 
-def _legacy_graphs(root):
+def _legacy_graphs(root, warnings):
     """opgraph -> nodegraph; outputs that name their node in a child `in` parameter; graphname inputs."""
     for el in root.children:
         if el.tag == "opgraph":
@@ -310,7 +311,7 @@ def _legacy_graphs(root):
                     p.attrs["output"] = p.attrs.pop("graphoutput")
 
 
-def _legacy_shaders(root):
+def _legacy_shaders(root, warnings):
     """<shader shadertype= shadername|shaderprogram=> elements become shader nodes; <material> with a
     <shaderref> to one becomes a surfacematerial, its <override>s set the inputs they publish."""
     shaders = {}
@@ -354,7 +355,7 @@ def _to_material(el, inputs):
 
 # ---------------------------------------------------------------- 1.36 -> 1.37
 
-def _v137(root):
+def _v137(root, warnings):
     """Renamed and split nodes of 1.37: invertmatrix, rotate2d/3d, compare -> ifgreatereq,
     transform* by matrix -> transformmatrix, combineN / separateN, geomattrvalue, color2 -> vector2."""
     for scope in _scopes(root):
@@ -404,7 +405,7 @@ _BSDF_RENAMES = {
 }
 
 
-def _v138(root):
+def _v138(root, warnings):
     _shaderref_materials(root)
     for scope in _scopes(root):
         namer = _Namer(scope)
@@ -506,7 +507,7 @@ def _category_of(nodedef):
 
 # ---------------------------------------------------------------- 1.38 -> 1.39
 
-def _v139(root):
+def _v139(root, warnings):
     _channels_attributes(root)
     _swizzle_nodes(root)
     for scope in _scopes(root):
@@ -527,7 +528,7 @@ def _v139(root):
                             _el("input", dict(_connection(p), name="in", type="vector3"), p.loc)]))
                         _set_connection(p, {"nodename": conv})
                     p.attrs["type"] = "color3"
-        _thin_film_layers(scope)
+        _thin_film_layers(scope, warnings)
 
 
 def _normalmap(el, scope, namer):
@@ -557,29 +558,67 @@ def _normalmap(el, scope, namer):
     el.children = [_el("input", {"name": "in", "type": "vector3", "nodename": sub}, loc)]
 
 
-def _thin_film_layers(scope):
-    """1.39 removed thin_film_bsdf: a layer of a thin film over a dielectric, conductor or generalized
-    Schlick BSDF becomes that BSDF with thinfilm_thickness / thinfilm_ior."""
+_THIN_FILM_BSDFS = ("dielectric_bsdf", "conductor_bsdf", "generalized_schlick_bsdf")
+
+
+def _thin_film_layers(scope, warnings):
+    """1.39 removed thin_film_bsdf: a <layer> of a thin film over a BSDF graph (a single BSDF or a mix, layer
+    or sum of them, as 1.38's standard_surface has it) is read as MaterialX 1.39's upgrade reads it: every
+    dielectric, conductor or generalized Schlick BSDF upstream of the layer, unless it only transmits
+    (scatter_mode "T"), takes the film's thickness and ior (its value or connection) as thinfilm_thickness and
+    thinfilm_ior; the layer passes its base on, and the layer and the film are dropped. A film input not set
+    is not copied (the 1.39 BSDF keeps its own default: no film)."""
+    by_name = {c.get("name"): c for c in scope.children if _is_node(c)}
     for layer in [c for c in scope.children if c.tag == "layer"]:
         top, base = _port(layer, "top"), _port(layer, "base")
-        if top is None or base is None:
+        film = by_name.get(top.get("nodename")) if top is not None else None
+        under = by_name.get(base.get("nodename")) if base is not None else None
+        if film is None or under is None or film.tag != "thin_film_bsdf":
             continue
-        film = _find(scope, top.get("nodename"))
-        under = _find(scope, base.get("nodename"))
-        if film is None or under is None or film.tag != "thin_film_bsdf" or under.tag not in (
-                "dielectric_bsdf", "conductor_bsdf", "generalized_schlick_bsdf"):
-            continue
-        for old, new in (("thickness", "thinfilm_thickness"), ("ior", "thinfilm_ior")):
-            p = _port(film, old)
-            if p is not None:
-                under.children.append(_el("input", dict(p.attrs, name=new), p.loc))
-        scope.children.remove(layer)
-        for el in scope.children:
+        filmed = []
+        for upstream in _upstream(layer, by_name):
+            mode = _port(upstream, "scatter_mode")
+            if upstream.tag not in _THIN_FILM_BSDFS or (mode is not None and mode.get("value") == "T"):
+                continue
+            filmed.append(upstream.get("name"))
+            for old, new in (("thickness", "thinfilm_thickness"), ("ior", "thinfilm_ior")):
+                p = _port(film, old)
+                if p is None:
+                    continue
+                q = _port(upstream, new)
+                if q is not None:       # a film set again (two films over one BSDF): the later one's
+                    upstream.children.remove(q)
+                upstream.children.append(_el("input", dict(p.attrs, name=new), p.loc))
+        if filmed != [under.get("name")]:       # not the one BSDF beneath: what the film is given to is assumed
+            warnings.append((layer.loc, "layer '%s': thin_film_bsdf '%s' over %s '%s' (gone in 1.39): its thickness "
+                                        "and ior are given to %s, as MaterialX's upgrade gives them"
+                             % (layer.get("name"), film.get("name"), under.tag, under.get("name"),
+                                "each BSDF beneath that reflects (%s)" % ", ".join(filmed) if filmed
+                                else "no BSDF (none beneath takes a film)")))
+        name = layer.get("name")
+        for el in scope.children:       # the layer's readers read its base
             for p in ([el] if el.tag == "output" else el.children):
-                if p.get("nodename") == layer.get("name"):
+                if p.get("nodename") == name and "nodegraph" not in p.attrs:
                     p.attrs["nodename"] = under.get("name")
+        scope.children.remove(layer)
+        del by_name[name]
         if not any(p.get("nodename") == film.get("name") for el in scope.children for p in [el] + el.children):
             scope.children.remove(film)
+            by_name.pop(film.get("name"), None)
+
+
+def _upstream(node, by_name):
+    """The nodes of a scope upstream of `node` (through node connections), each once, `node` itself left out."""
+    seen, out, work = {node.get("name")}, [], [node]
+    while work:
+        el = work.pop()
+        for p in _ports(el):
+            dep = by_name.get(p.get("nodename")) if "nodename" in p.attrs else None
+            if dep is not None and dep.get("name") not in seen:
+                seen.add(dep.get("name"))
+                out.append(dep)
+                work.append(dep)
+    return out
 
 
 # the steps, each applied to documents older than its version

@@ -33,6 +33,7 @@ class _Budget:
     elements: int = 0
     bytes: int = 0
     include_tags: int = 0       # elements that may be includes (tags ending in 'include'): none, nothing to splice
+    warnings: list = None       # (Loc, message): slips of the XML itself that MaterialX's reader reads past
 
 
 class gc_paused(contextlib.ContextDecorator):
@@ -107,7 +108,7 @@ def _encoding_of(data, path):
         return "utf-16-le"
     if data.startswith(b"\0<"):
         return "utf-16-be"
-    m = _DECLARATION.match(data[:1024])
+    m = _DECLARATION.search(data[:1024])        # searched: text before the declaration is read past (a warning)
     if not m:
         return "utf-8"
     name = m.group(2).decode("ascii", "replace")
@@ -136,19 +137,73 @@ def parse_text(text, path, budget=None):
     """XML text (str, or bytes in the encoding they declare) -> root XElement.
 
     Raises MtlxError naming file and line on malformed XML, unsupported encodings, entity
-    declarations, elements nested deeper than MAX_DEPTH and more than MAX_ELEMENTS elements."""
+    declarations, elements nested deeper than MAX_DEPTH and more than MAX_ELEMENTS elements.
+    What MaterialX's reader (pugixml) reads past is read past here too, each a warning in budget.warnings:
+    blank lines or text before the XML declaration, text or elements before or after the root element (the
+    first <materialx> at the top level is the document)."""
     budget = budget or _Budget()
     text = _decode(text, path)
     # filename tokens are written raw inside attribute values (MaterialX's reader accepts them)
     text = text.replace("<UDIM>", "&lt;UDIM&gt;").replace("<UVTILE>", "&lt;UVTILE&gt;")
+    elements = budget.elements
+    try:
+        return _parse(text, path, budget)
+    except _Malformed as e:
+        error = e
+    budget.elements = elements
+    slips = []
+    try:
+        root = _parse(*_fragment(text, path, slips), budget, slips=slips)
+    except (_Malformed, MtlxError):
+        root = None
+    if root is None:            # not something MaterialX reads either: the first error, as the parser said it
+        raise MtlxError((Loc(path, error.line), "malformed XML: %s" % error.message)) from None
+    if budget.warnings is not None:
+        budget.warnings.extend(slips)
+    return root
+
+
+class _Malformed(Exception):
+    def __init__(self, line, message):
+        super().__init__(message)
+        self.line, self.message = line, message
+
+
+_FRAGMENT = "mtlxgen-top-level"             # the element that holds a document's top level when read leniently
+_ANY_DECLARATION = re.compile(r"<\?xml\s[^>]*?\?>")
+
+
+def _fragment(text, path, slips):
+    """(text, path) read as pugixml reads a document: a declaration anywhere is dropped (blank lines or text
+    before it warned), and the top level held in one element, so that text and other elements before and
+    after the root element can be seen (and read past by _parse). Lines are kept: nothing adds a line break."""
+    m = _ANY_DECLARATION.search(text)
+    if m is not None and m.start() > 0:
+        before = text[:m.start()]
+        line = before.count("\n") + 1
+        what = ("%d blank line%s" % (before.count("\n"), "" if before.count("\n") == 1 else "s")
+                if not before.strip() else "text %s" % files.quoted(before.strip()[:40]))
+        slips.append((Loc(path, line), "the XML declaration is not at the start of the file (%s before it): "
+                                       "read on, as MaterialX's reader does" % what))
+        slips.append(line)          # text before the declaration: said here, not again as text before the root
+    if m is not None:
+        text = text[:m.start()] + " " * (m.end() - m.start()) + text[m.end():]
+    return "<%s>%s</%s>" % (_FRAGMENT, text, _FRAGMENT), path
+
+
+def _parse(text, path, budget, slips=None):
+    """Expat over `text`; slips is None for a well-formed document, else the list that receives what the
+    top level of a fragment (_fragment) holds besides the root element."""
     parser = xml.parsers.expat.ParserCreate("UTF-8")     # decoded above: the declared encoding is overridden
     parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
     root_holder = []
     stack = []
     push, pop = stack.append, stack.pop
-    max_depth = MAX_DEPTH
+    lenient = slips is not None
+    max_depth = MAX_DEPTH + lenient
     room = [MAX_ELEMENTS - budget.elements]      # elements this document may still add
     locs = {}                                    # line -> Loc: elements on one line share it
+    top = XElement(_FRAGMENT, {}, Loc(path, 1))
 
     def start(tag, attrs):
         if len(stack) >= max_depth:
@@ -165,12 +220,18 @@ def parse_text(text, path, budget=None):
             budget.include_tags += 1
         if stack:
             stack[-1].children.append(el)
+        elif lenient and tag == _FRAGMENT:
+            el = top
         else:
             root_holder.append(el)
         push(el)
 
     def end(tag):
         pop()
+
+    def text_at_top(data):
+        if len(stack) == 1 and data.strip():
+            top.children.append(XElement("#text", {"text": data.strip()}, Loc(path, parser.CurrentLineNumber)))
 
     def refuse_entity(*args):
         raise _Refused("entity declarations are not allowed")
@@ -182,18 +243,40 @@ def parse_text(text, path, budget=None):
     parser.EndElementHandler = end
     parser.EntityDeclHandler = refuse_entity
     parser.ExternalEntityRefHandler = refuse_external
+    if lenient:
+        parser.CharacterDataHandler = text_at_top
     try:
         with gc_paused():           # the tree holds no cycles
             parser.Parse(text.encode("utf-8"), True)
     except xml.parsers.expat.ExpatError as e:
-        raise MtlxError((Loc(path, e.lineno), "malformed XML: %s" % xml.parsers.expat.ErrorString(e.code))) from None
+        raise _Malformed(e.lineno, xml.parsers.expat.ErrorString(e.code)) from None
     except _Refused as e:
         raise MtlxError((Loc(path, parser.CurrentLineNumber), str(e))) from None
     finally:
         budget.elements = MAX_ELEMENTS - room[0]
+    if lenient:
+        return _top_level_root(top, slips)
     if not root_holder:
         raise MtlxError((Loc(path, 1), "empty document"))
     return root_holder[0]
+
+
+def _top_level_root(top, slips):
+    """The root element of a fragment's top level (its first <materialx>, as MaterialX takes it; else its first
+    element), each other thing at the top level a warning."""
+    declaration = slips.pop() if slips and isinstance(slips[-1], int) else 0
+    elements = [c for c in top.children if c.tag != "#text"]
+    if not elements:
+        raise MtlxError((top.loc, "empty document"))
+    root = next((c for c in elements if c.tag == "materialx"), elements[0])
+    for c in top.children:
+        if c is root or (c.tag == "#text" and c.loc.line < declaration):
+            continue
+        where = "before" if top.children.index(c) < top.children.index(root) else "after"
+        what = ("text %s" % files.quoted(c.attrs["text"][:40]) if c.tag == "#text" else "element <%s>" % c.tag)
+        slips.append((c.loc, "%s %s the root element <%s>: ignored, as MaterialX's reader ignores it"
+                             % (what, where, root.tag)))
+    return root
 
 
 def _read_document(path, loc, what, budget):
@@ -207,12 +290,14 @@ def _read_document(path, loc, what, budget):
     return root
 
 
-def read_file(path, search_paths=()):
+def read_file(path, search_paths=(), warnings=None):
     """Read a .mtlx file, splicing xi:include'd documents. Returns the root XElement.
 
-    Included files must be inside the document's folder, the search paths or the data libraries."""
+    Included files must be inside the document's folder, the search paths or the data libraries; each is
+    upgraded to 1.39 from its own version before it is spliced in (as MaterialX reads an included document).
+    warnings: a list that receives (Loc, message) for each slip of the XML that is read past."""
     path = os.path.abspath(path)
-    budget = _Budget()
+    budget = _Budget(warnings=warnings)
     root = _read_document(path, Loc(path, 0), "the document", budget)
     if budget.include_tags:         # else nothing to splice (and the parse bounded the nesting)
         roots = files.allowed_roots(path, search_paths)
@@ -262,6 +347,8 @@ def _read_include(el, search_paths, roots, chain, budget):
     if budget.includes > MAX_INCLUDES:
         raise MtlxError((el.loc, "more than %d included files" % MAX_INCLUDES))
     sub = _read_document(os.path.abspath(target), el.loc, what, budget)
+    from .upgrade import upgrade_tree       # its own version: MaterialX upgrades each document it reads
+    sub = upgrade_tree(sub, budget.warnings)
     # the included document's own version and prefixes apply to what came from it
     for grand in sub.children:
         for key in ("fileprefix", "geomprefix", "colorspace"):
