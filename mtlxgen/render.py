@@ -19,6 +19,10 @@ from typing import Callable, Optional
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
+# the environment recipe (mip chain, SH irradiance, the lat-long frame ENV_MATRIX, the sample count) is environment.py's,
+# shared with view, web, three and any host; these names stay here for render's callers
+from .environment import (ENV_MATRIX, ENV_SAMPLES, SH_BAND_ROWS, _latlong_directions, _sh9,  # noqa: F401
+                          irradiance_map, load_environment, mip_count, sh9_projection)
 from .files import check_regular
 from .glcontext import create_context  # noqa: F401  (render.create_context for callers)
 from .images import read_image, write_image  # noqa: F401  (re-exported for the CLI)
@@ -26,7 +30,6 @@ from .images import read_image, write_image  # noqa: F401  (re-exported for the 
 SIZE = 256
 EYE = (0.0, 0.0, 3.0)
 FOV_Y = 45.0
-ENV_SAMPLES = 64
 
 
 def sphere(n_lon=128, n_lat=64):
@@ -136,80 +139,6 @@ def scoreboard_sky(width=512, height=256):
     return (img + 8.0 * ramp ** 2 * np.array([1.0, 0.95, 0.85])).astype(np.float32)
 
 
-def _latlong_directions(width, height):
-    v = (np.arange(height) + 0.5) / height
-    u = (np.arange(width) + 0.5) / width
-    uu, vv = np.meshgrid(u, v)
-    el, az = (0.5 - vv) * np.pi, (uu - 0.5) * 2.0 * np.pi
-    d = np.stack([np.cos(el) * np.sin(az), np.sin(el), -np.cos(el) * np.cos(az)], -1)
-    solid_angle = np.cos(el) * (np.pi / height) * (2.0 * np.pi / width)
-    return d, solid_angle
-
-
-def _sh9(d):
-    x, y, z = d[..., 0], d[..., 1], d[..., 2]
-    return np.stack([0.282095 * np.ones_like(x), 0.488603 * y, 0.488603 * z, 0.488603 * x,
-                     1.092548 * x * y, 1.092548 * y * z, 0.315392 * (3 * z * z - 1), 1.092548 * x * z,
-                     0.546274 * (x * x - y * y)], -1)
-
-
-SH_BAND_ROWS = 256      # rows of the map projected at a time (float64 copies of at most 256 rows)
-
-
-def sh9_projection(env):
-    """The order-2 spherical-harmonic coefficients (9 x 3, float64) of a lat-long radiance map: the sum over texels
-    of radiance x basis x solid angle. The basis is separable on the map: with x = cos(el) sin(az), y = sin(el),
-    z = -cos(el) cos(az), every function is a product of one of six azimuthal factors (1, cos, sin, cos^2, sin cos,
-    sin^2) and an elevation factor, so each row's radiance is summed against the six (one matrix product per band
-    of rows) and the rows then weighted by their elevation factors and solid angles: time and memory grow with
-    the map, never as a per-texel table of the basis."""
-    h, w = env.shape[:2]
-    el = (0.5 - (np.arange(h) + 0.5) / h) * np.pi
-    az = ((np.arange(w) + 0.5) / w - 0.5) * 2.0 * np.pi
-    ca, sa = np.cos(az), np.sin(az)
-    factors = np.stack([np.ones_like(az), ca, sa, ca * ca, sa * ca, sa * sa])         # (6, w)
-    ce, se = np.cos(el), np.sin(el)
-    weight = ce * (np.pi / h) * (2.0 * np.pi / w)                                      # solid angle of a row's texels
-    coeffs = np.zeros((9, 3))
-    for r0 in range(0, h, SH_BAND_ROWS):
-        r1 = min(h, r0 + SH_BAND_ROWS)
-        m = np.matmul(factors, env[r0:r1, :, :3].astype(np.float64)) * weight[r0:r1, None, None]  # (rows, 6, 3)
-        one, cos_, sin_, cos2, sincos, sin2 = (m[:, j] for j in range(6))
-        c, s = ce[r0:r1, None], se[r0:r1, None]
-        coeffs += np.stack([0.282095 * one, 0.488603 * s * one, -0.488603 * c * cos_, 0.488603 * c * sin_,
-                            1.092548 * c * s * sin_, -1.092548 * s * c * cos_, 0.315392 * (3 * c * c * cos2 - one),
-                            -1.092548 * c * c * sincos, 0.546274 * (c * c * sin2 - s * s * one)], 1).sum(0)
-    return coeffs
-
-
-def irradiance_map(env, width=128, height=64):
-    """Irradiance E(n)/pi of a lat-long radiance map, from its order-2 spherical-harmonic projection
-    (Ramamoorthi & Hanrahan 2001, "An Efficient Representation for Irradiance Environment Maps")."""
-    coeffs = sh9_projection(env)
-    band = np.array([np.pi, 2 * np.pi / 3, 2 * np.pi / 3, 2 * np.pi / 3, np.pi / 4, np.pi / 4, np.pi / 4,
-                     np.pi / 4, np.pi / 4])
-    dn, _ = _latlong_directions(width, height)
-    irr = np.einsum("hwk,kc->hwc", _sh9(dn), coeffs * band[:, None]) / np.pi
-    return np.clip(irr, 0.0, None).astype(np.float32)
-
-
-def load_environment(path, loc=None):
-    """A lat-long environment file as float32 RGB (rows top first). Any regular image file within the size caps
-    (images.py); one whose decoded floats would pass images.MAX_DECODED_BYTES (a 16384 x 8192 map) is box-filtered
-    down by a power of two as it is read. Grey (and grey-and-alpha) maps light as their grey; texels that are
-    not finite (NaN, infinite: no radiance) read as 0. Problems: one line at `loc` (default: the file)."""
-    img = read_image(path, loc, "environment file", reduce=True)
-    if img.shape[2] <= 2:
-        img = np.repeat(img[..., :1], 3, axis=2)
-    img = img[..., :3] if img.shape[2] > 3 else img
-    for r0 in range(0, img.shape[0], SH_BAND_ROWS):      # in place, a band of rows at a time
-        band = img[r0:r0 + SH_BAND_ROWS]
-        band[~np.isfinite(band)] = 0.0
-    return img
-
-
-# the lat-long frame of interface.md: x and z negated (the same as the shaders' default u_envMatrix)
-ENV_MATRIX = ((-1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, -1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
 
 
 @dataclass(frozen=True)
@@ -447,7 +376,7 @@ class Renderer:
         env = self.scene.sky() if environment is None else np.asarray(environment, dtype=np.float32)
         # lat-long maps go up top row first: v = 0 is the top of the image (interface.md)
         self.env = self._float_texture(env, mipmaps=True, top_first=True)
-        self.env_mips = int(np.floor(np.log2(max(env.shape[:2])))) + 1
+        self.env_mips = mip_count(env.shape[1], env.shape[0])
         self.irradiance = (self._float_texture(irradiance_map(env), mipmaps=False, top_first=True)
                            if self.scene.sh_irradiance else self.env)
 

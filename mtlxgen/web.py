@@ -24,40 +24,13 @@ import re
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
+from .environment import _downsample, mip_chain  # noqa: F401  (environment.py's recipe: what render's GL mips hold)
 from .escape import html_text, json_in_script
 
 ASSETS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web_assets")
 MAX_TEXTURE_PIXELS = 2 ** 22            # 2048 x 2048: one texture a page embeds
 MAX_TEXTURES_PIXELS = 2 ** 24           # all of a page's textures together
 MAX_ENV_PIXELS = 2 ** 21                # a 2048 x 1024 lat-long environment
-
-
-# ---------------------------------------------------------------- mip chains
-
-def _downsample(img, width, height):
-    """One level down: each texel bilinearly sampled at its centre's place in the level above, clamped at the
-    edges (what Mesa's mipmap generation does; for even sizes it is the 2x2 box)."""
-    src = np.asarray(img, dtype=np.float64)
-    h, w = src.shape[:2]
-    x = (np.arange(width) + 0.5) * w / width - 0.5
-    y = (np.arange(height) + 0.5) * h / height - 0.5
-    x0f, y0f = np.floor(x), np.floor(y)
-    fx, fy = (x - x0f)[None, :, None], (y - y0f)[:, None, None]
-    x0, x1 = np.clip(x0f.astype(int), 0, w - 1), np.clip(x0f.astype(int) + 1, 0, w - 1)
-    y0, y1 = np.clip(y0f.astype(int), 0, h - 1), np.clip(y0f.astype(int) + 1, 0, h - 1)
-    top = src[y0][:, x0] * (1.0 - fx) + src[y0][:, x1] * fx
-    bottom = src[y1][:, x0] * (1.0 - fx) + src[y1][:, x1] * fx
-    return (top * (1.0 - fy) + bottom * fy).astype(np.float32)
-
-
-def mip_chain(img):
-    """[level 0, 1, ... 1x1] of an (h, w, c) float image, as OpenGL's glGenerateMipmap sizes them
-    (each dimension halved, rounded down, at least 1)."""
-    levels = [np.ascontiguousarray(img, dtype=np.float32)]
-    while levels[-1].shape[0] > 1 or levels[-1].shape[1] > 1:
-        h, w = levels[-1].shape[:2]
-        levels.append(_downsample(levels[-1], max(1, w // 2), max(1, h // 2)))
-    return levels
 
 
 # ---------------------------------------------------------------- images as the page receives them
@@ -164,14 +137,14 @@ def texture_payload(manifest):
 def environment_payload(environment=None):
     """The radiance map's mip chain (32-bit float, top row first) and its SH irradiance map, as render binds
     them for this environment (None: the built-in sky)."""
-    from . import render
-    env = render.builtin_sky() if environment is None else np.asarray(environment, dtype=np.float32)[..., :3]
-    radiance = encode_image(mip_chain(env), "f32")
+    from .environment import prepare
+    env = prepare(environment)          # environment.py: the recipe every host binds
+    radiance = encode_image(env.radiance, "f32")
     radiance["mipmaps"] = True
-    irradiance = encode_image([render.irradiance_map(env)], "f32")
+    irradiance = encode_image([env.irradiance], "f32")
     irradiance["mipmaps"] = False
     return {"radiance": radiance, "irradiance": irradiance,
-            "mips": int(np.floor(np.log2(max(env.shape[:2])))) + 1, "matrix": list(_column_major(render.ENV_MATRIX))}
+            "mips": env.uniforms["u_envRadianceMips"], "matrix": env.uniforms["u_envMatrix"]}
 
 
 def read_environment(path):
@@ -181,11 +154,6 @@ def read_environment(path):
     if size is not None and size[0] * size[1] > MAX_ENV_PIXELS:
         raise _too_big(path, size, MAX_ENV_PIXELS, "environment")
     return render.load_environment(path)
-
-
-def _column_major(rows):
-    m = np.array(rows, dtype=float)
-    return [float(x) for x in m.T.ravel()]
 
 
 def geometry_payload(attributes):
