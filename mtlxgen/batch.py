@@ -4,7 +4,12 @@ A job is one .mtlx file and the elements to render from it, plus the RenderSetti
 with. Jobs run in a process pool ("spawn" start method, so no process ever inherits a GL context);
 each worker opens one headless GL context per distinct settings and keeps it for its lifetime.
 With workers=1 (or a single small job) everything runs in this process, with the same per-process
-renderer cache, so repeated calls (tests) pay for a context only once.
+renderer cache, so repeated calls (tests) pay for a context only once. With a scheduler (cluster.py) the same
+jobs run as tasks of a Dask distributed cluster: run_job is the one per-element function of all three ways.
+
+A `post` function (module level, so that it travels to a worker) runs where the element was rendered, on each
+Item drawn: it may compare it with a golden, turn it into what is written, and drop the float image, so that
+only what the client writes comes back (golden check: a passing element returns its metrics alone).
 
 Every rendered element comes back as an Item: the linear RGBA float32 image (row 0 on top), or the
 error lines that stopped it, and its timings (document load, generation, program link, draw).
@@ -14,6 +19,7 @@ import inspect
 import multiprocessing
 import os
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 
@@ -24,6 +30,7 @@ from .files import regular_file_problem
 
 BUILTIN_SKY = "builtin_sky"
 CHUNK = 16          # elements per pool task: big files are split so the pool stays balanced
+KEPT_TEXTURES = 64  # image files a renderer keeps decoded between jobs (a library of thousands: memory stays flat)
 
 
 @dataclass(frozen=True)
@@ -68,10 +75,12 @@ class Item:
     timings: dict = field(default_factory=dict)
     pid: int = 0
     gl_renderer: str = ""
+    outcome: dict = None            # what the run's `post` function made of the drawn image (it may drop `image`)
 
     @property
     def ok(self):
-        return self.image is not None
+        """Drawn (its image, or what `post` made of it, is here)."""
+        return self.image is not None or self.outcome is not None
 
 
 # ---------------------------------------------------------------- per-process state
@@ -80,16 +89,27 @@ _RENDERERS = {}
 
 
 def renderer_for(settings):
-    """This process's renderer for these settings (created on first use, kept until exit)."""
-    r = _RENDERERS.get(settings)
+    """This thread's renderer for these settings (created on first use, kept until exit). Per thread: a GL
+    context is current in one thread at a time, and a Dask worker may run tasks in several."""
+    key = (settings, threading.get_ident())
+    r = _RENDERERS.get(key)
     if r is None:
         from . import render
         env = None
         if settings.environment and settings.environment != BUILTIN_SKY:
             env = render.load_environment(settings.environment)
         r = render.Renderer(size=settings.size, environment=env, env_samples=settings.env_samples)
-        _RENDERERS[settings] = r
+        _RENDERERS[key] = r
     return r
+
+
+def _trim_textures(r, keep=KEPT_TEXTURES):
+    """Forget the oldest decoded image files of renderer r beyond `keep` (read again when bound again: the same
+    pixels), so a process that draws a whole library holds a bounded set of textures."""
+    cache = getattr(r, "_image_cache", None)
+    if cache is not None and len(cache) > keep:
+        for path in list(cache)[:len(cache) - keep]:
+            r.forget_texture(path)
 
 
 def list_elements(path, library_dirs=()):
@@ -108,10 +128,23 @@ def error_lines(e, path, element=""):
             % (path, "%s: " % element if element else "", what)]
 
 
-def run_job(job, library_dirs=(), strict=False, options=None):
+def run_job(job, library_dirs=(), strict=False, options=None, post=None, post_args=None):
     """Render one job in this process. Never raises for bad input: failures become Items with errors.
     strict: warnings are errors (the element is not drawn). options: further pipeline.Session keywords
-    (how shaders are generated: target, ...), the same for every job of a run."""
+    (how shaders are generated: target, ...), the same for every job of a run. post(item, arg): run on each drawn
+    item, arg = post_args[(absolute path, element)] (module docstring)."""
+    items = _draw_job(job, library_dirs, strict, options)
+    if post is not None:
+        for item in items:
+            if item.image is not None:
+                try:
+                    post(item, (post_args or {}).get((os.path.abspath(item.path), item.element)))
+                except Exception as e:      # (a bug of ours: the element's failure, one line naming it)
+                    item.image, item.outcome, item.error = None, None, error_lines(e, item.path, item.element)
+    return items
+
+
+def _draw_job(job, library_dirs, strict, options):
     from . import library, pipeline
     items = []
     try:
@@ -148,6 +181,7 @@ def run_job(job, library_dirs=(), strict=False, options=None):
         if not strict:                  # strict: they are the item's errors
             item.warnings = session.warning_lines(name)
         items.append(item)
+    _trim_textures(r)
     return items
 
 
@@ -231,33 +265,57 @@ def default_workers():
         return max(1, os.cpu_count() or 1)
 
 
-def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False, options=None):
+def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False, options=None, post=None,
+                post_args=None, scheduler=None):
     """Render all jobs; returns [Item] in job order. `progress`: a Progress, True/False, or None (auto).
-    strict: warnings are errors, options: Session keywords (run_job)."""
+    strict: warnings are errors, options: Session keywords, post and post_args: run_job's. scheduler: a Dask
+    scheduler address (cluster.py: tcp://HOST:PORT, or local:N) to run the jobs on instead of `workers`
+    processes here; raises MtlxError (one line) when the cluster cannot run them or goes away."""
     tasks = _split(jobs, library_dirs)
     total = sum(len(t.elements) or 1 for t in tasks)
     bar = progress if isinstance(progress, Progress) else Progress(total, "render", enabled=progress)
+    post_args = post_args or {}
+
+    def args_of(task):          # the post arguments of this task's elements alone (not the whole run's)
+        if not post_args:
+            return None
+        here = os.path.abspath(task.path)
+        return {(here, el): post_args[(here, el)] for el in task.elements if (here, el) in post_args}
+
+    def done(i, items):
+        results[i] = items
+        bar.advance(len(items), os.path.basename(tasks[i].path), failed=sum(1 for it in items if not it.ok))
+
+    results = [None] * len(tasks)
+    if scheduler is not None:
+        from . import cluster
+        cluster.run_tasks(scheduler, tasks, done, bar, library_dirs, strict, options, post, args_of)
+        bar.close()
+        return [item for chunk in results for item in chunk]
     workers = default_workers() if workers is None else max(1, int(workers))
     workers = min(workers, len(tasks)) or 1
-    results = [None] * len(tasks)
     if workers == 1:
         for i, task in enumerate(tasks):
-            results[i] = run_job(task, library_dirs, strict, options)
-            bar.advance(len(results[i]), os.path.basename(task.path))
+            bar.running = 1
+            done(i, run_job(task, library_dirs, strict, options, post, args_of(task)))
     else:
         ctx = multiprocessing.get_context("spawn")
         with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-            futures = {pool.submit(run_job, task, tuple(library_dirs), strict, options): i
+            futures = {pool.submit(run_job, task, tuple(library_dirs), strict, options, post, args_of(task)): i
                        for i, task in enumerate(tasks)}
+            left = len(futures)
             for fut in concurrent.futures.as_completed(futures):
                 i = futures[fut]
+                left -= 1
+                bar.running = min(workers, left)
                 try:
-                    results[i] = fut.result()
+                    items = fut.result()
                 except Exception as e:  # a worker died (GL crash, out of memory)
                     path = tasks[i].path
-                    results[i] = [Item(path, el, tasks[i].settings, error=error_lines(e, path, el))
-                                  for el in (tasks[i].elements or ("",))]
-                bar.advance(len(results[i]), os.path.basename(tasks[i].path))
+                    items = [Item(path, el, tasks[i].settings, error=error_lines(e, path, el))
+                             for el in (tasks[i].elements or ("",))]
+                done(i, items)
+    bar.running = 0
     bar.close()
     return [item for chunk in results for item in chunk]
 
@@ -277,7 +335,8 @@ def timing_table(rows):
 # ---------------------------------------------------------------- progress bar
 
 class Progress:
-    """A progress bar on stderr: redrawn in place on a terminal, a line per ~10% otherwise.
+    """A progress bar on stderr: redrawn in place on a terminal, a line per ~10% otherwise; elements done of
+    all, tasks running (set `running`) and elements failed.
 
     enabled=None shows it when there are at least 8 steps (a "long run")."""
 
@@ -287,25 +346,35 @@ class Progress:
         self.enabled = (self.total >= 8) if enabled is None else bool(enabled)
         self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
         self.done, self.t0, self._last_tenth = 0, time.perf_counter(), -1
+        self.running, self.failed = 0, 0
         self._drawn = False
 
-    def advance(self, n=1, what=""):
+    def _counts(self):
+        return "%d/%d%s%s" % (self.done, self.total, " running %d" % self.running if self.running else "",
+                              " failed %d" % self.failed if self.failed else "")
+
+    def advance(self, n=1, what="", failed=0):
         self.done += n
+        self.failed += failed
+        self.draw(what)
+
+    def draw(self, what=""):
         if not self.enabled or not self.total:
             return
         frac = min(self.done / self.total, 1.0)
         elapsed = time.perf_counter() - self.t0
         if self.tty:
             fill = int(round(frac * self.width))
-            line = "\r%s [%s%s] %d/%d %5.1fs %s" % (self.label, "#" * fill, "." * (self.width - fill), self.done,
-                                                    self.total, elapsed, what[:30])
+            line = "\r%s [%s%s] %s %5.1fs %s" % (self.label, "#" * fill, "." * (self.width - fill), self._counts(),
+                                                elapsed, what[:30])
             self.stream.write(line.ljust(100)[:100])
             self._drawn = True
         else:
             tenth = int(frac * 10)
-            if tenth != self._last_tenth:
-                self._last_tenth = tenth
-                self.stream.write("%s: %d/%d (%d%%) %.1fs\n" % (self.label, self.done, self.total, 100 * frac, elapsed))
+            if tenth == self._last_tenth:
+                return
+            self._last_tenth = tenth
+            self.stream.write("%s: %s (%d%%) %.1fs\n" % (self.label, self._counts(), 100 * frac, elapsed))
         self.stream.flush()
 
     def close(self):

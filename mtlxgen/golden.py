@@ -18,6 +18,7 @@ when its largest relative difference exceeds HDR_RELATIVE. NVIDIA's FLIP (the `f
 package) is computed as a perceptual score for every golden that differs at all; it gates only when
 a FLIP limit is set. The scoreboard's parity verdict (compare.parity) is recorded alongside.
 """
+import hashlib
 import json
 import os
 from dataclasses import asdict, dataclass
@@ -424,18 +425,23 @@ def _result(t, index, status, message=(), metrics=None, timings=None, files=None
 
 
 def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tolerance(), workers=None,
-          progress=None, flip=True, library_dirs=(), strict=False, warnings=None, options=None):
+          progress=None, flip=True, library_dirs=(), strict=False, warnings=None, options=None, scheduler=None,
+          shard=None):
     """Render and compare. Writes results.json to out_dir and, per material that does not pass,
     NAME.new.png, NAME.golden.png, NAME.diff.png (and NAME.flip.png, NAME.new.exr where they apply)
     side by side; a passing material leaves no images (stale ones from an earlier run are removed).
     Raises MtlxError when there is nothing to check. warnings: a list that receives the warning lines of
     the documents checked, each once; strict: warnings are errors (the material's status is error);
     options: how shaders are generated (pipeline.Session keywords: target, ...): a golden is an image, so
-    every target must draw it."""
+    every target must draw it. scheduler: a Dask scheduler to draw and compare on (cluster.py; None: `workers`
+    processes here). shard: (K, N), check the K-th (1 to N) of N shards of the elements alone (shard_of); one
+    may be empty."""
     index = Index(golden_dir)
-    tgts = targets(index, paths, library_dirs)
+    every = tgts = targets(index, paths, library_dirs)
     if not tgts:
         raise _nothing_to_do(index, paths, "check")
+    if shard is not None:
+        tgts = [t for t in tgts if shard_of(index, t, shard[1]) == shard[0] - 1]
     notes = []
     if flip:
         mod, why = flip_module()
@@ -443,8 +449,14 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
             notes.append(why)
     settings_for = lambda t: index.settings(t.entry) if t.entry else RenderSettings()
     tgts_render = [t for t in tgts if t.error is None and t.entry is not None]
+    plan = {(t.path, t.element): {"png": index.file(t.entry["png"]),
+                                  "exr": index.file(t.entry["exr"]) if t.entry.get("exr") else None,
+                                  "tolerance": asdict(tolerance.merged(t.entry.get("tolerance"))), "flip": flip,
+                                  "keep_images": _scene_changed(t.entry.get("settings", {}))}
+            for t in tgts_render}
     items = batch.render_jobs(_jobs(tgts_render, settings_for), workers=workers, progress=progress,
-                              library_dirs=library_dirs, strict=strict, options=options)
+                              library_dirs=library_dirs, strict=strict, options=options, post=compare_drawn,
+                              post_args=plan, scheduler=scheduler)
     _collect_warnings(items, warnings)
     by_key = {(os.path.abspath(it.path), it.element): it for it in items}
     os.makedirs(out_dir, exist_ok=True)
@@ -471,43 +483,39 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
             continue
         if it.gl_renderer and t.entry.get("gl_renderer") and it.gl_renderer != t.entry["gl_renderer"]:
             renderers.add((it.gl_renderer, t.entry["gl_renderer"]))
-        tol = tolerance.merged(t.entry.get("tolerance"))
         files = {"new": t.name + ".new.png", "golden": t.name + ".golden.png", "diff": t.name + ".diff.png"}
         golden_png = index.file(t.entry["png"])
         message = []
         if _scene_changed(settings):
             message.append("the harness scene (geometry/camera/lights) differs from the one this golden was "
                            "made with; review and run mtlxgen golden update")
-        try:
-            golden8 = read_png8(golden_png)
-            golden_exr = read_image(index.file(t.entry["exr"])) if t.entry.get("exr") else None
-        except MtlxError as e:
-            results.append(_result(t, index, "error", e.lines(), timings=it.timings, settings=settings))
+        done = it.outcome           # compare_drawn's, where the element was drawn
+        if "error" in done:
+            results.append(_result(t, index, "error", done["error"], timings=it.timings, settings=settings))
             continue
-        metrics, d, flip_heat = measure(it.image, golden8, golden_exr, tol, flip)
-        passes, why = verdict(metrics, tol)
-        passes = passes and not message
+        metrics, why = done["metrics"], done["why"]
+        passes = done["passes"] and not message
         if passes:
             _remove_stale(out_dir, t.name)
             results.append(_result(t, index, "pass", (), metrics, it.timings, {}, settings))
             continue
         try:
-            _write_image(os.path.join(out_dir, files["new"]), to_srgb8(it.image))
-            if golden_exr is not None or is_hdr(it.image):
+            _write_image(os.path.join(out_dir, files["new"]), done["new8"])
+            if done["new_linear"] is not None:
                 files["new_exr"] = t.name + ".new.exr"
-                _write_image(os.path.join(out_dir, files["new_exr"]), it.image)
+                _write_image(os.path.join(out_dir, files["new_exr"]), done["new_linear"])
             if is_inside(golden_png, [os.path.realpath(index.dir)]):   # its bytes; linked from elsewhere: pixels
                 _write(os.path.join(out_dir, files["golden"]),
                        read_bounded(golden_png, Loc(golden_png, 0), "golden image", MAX_BYTES["image"]))
             else:
-                _write_image(os.path.join(out_dir, files["golden"]), golden8)
-            if d is not None:
-                _write_image(os.path.join(out_dir, files["diff"]), heat_map(d, golden8, tol.threshold))
+                _write_image(os.path.join(out_dir, files["golden"]), done["golden8"])
+            if done["diff"] is not None:
+                _write_image(os.path.join(out_dir, files["diff"]), done["diff"])
             else:
                 files.pop("diff")
-            if flip_heat is not None:
+            if done["flip_map"] is not None:
                 files["flip"] = t.name + ".flip.png"
-                _write_image(os.path.join(out_dir, files["flip"]), flip_heat)
+                _write_image(os.path.join(out_dir, files["flip"]), done["flip_map"])
         except MtlxError as e:          # its images could not be written: a failure all the same, said why
             results.append(_result(t, index, "fail", message + why + e.lines(), metrics, it.timings, {}, settings))
             continue
@@ -516,10 +524,42 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
         notes.append("goldens were made with the GL renderer '%s', this run used '%s': small differences "
                      "are expected across drivers" % (old_gl, new_gl))
     run = CheckRun(results, os.path.abspath(out_dir), notes)
-    _write(os.path.join(out_dir, "results.json"),
-           json.dumps({"golden_dir": index.dir, "tolerance": asdict(tolerance), "notes": notes,
-                       "results": results}, indent=1, sort_keys=True) + "\n")
+    data = {"golden_dir": index.dir, "tolerance": asdict(tolerance), "notes": notes, "results": results}
+    if shard is not None:
+        data["shard"] = {"index": shard[0], "count": shard[1], "elements": len(every)}
+    _write(os.path.join(out_dir, "results.json"), json.dumps(data, indent=1, sort_keys=True) + "\n")
     return run
+
+
+def compare_drawn(item, plan):
+    """batch.run_job's post step of check, run where the element was drawn: its image compared with its golden
+    (plan: the golden's files, the tolerance, flip, keep_images). item.outcome: {"error": lines} (a golden that
+    cannot be read), else the metrics, passes, why, and for a failure (or keep_images) what check writes: new8,
+    new_linear (the linear render, where there is an EXR golden or it is HDR), golden8, diff, flip_map. The float
+    image is dropped: a passing element sends back its metrics alone."""
+    tol = Tolerance(**plan["tolerance"])
+    try:
+        golden8 = read_png8(plan["png"])
+        golden_exr = read_image(plan["exr"]) if plan["exr"] else None
+    except MtlxError as e:
+        item.outcome, item.image = {"error": e.lines()}, None
+        return
+    metrics, d, flip_heat = measure(item.image, golden8, golden_exr, tol, plan["flip"])
+    passes, why = verdict(metrics, tol)
+    out = {"metrics": metrics, "passes": passes, "why": why}
+    if not passes or plan["keep_images"]:
+        out.update(new8=to_srgb8(item.image), golden8=golden8, flip_map=flip_heat,
+                   new_linear=item.image if golden_exr is not None or is_hdr(item.image) else None,
+                   diff=heat_map(d, golden8, tol.threshold) if d is not None else None)
+    item.outcome, item.image = out, None
+
+
+def shard_of(index, target, count):
+    """The shard (0 .. count-1) of a target: a stable hash (sha256) of its identity, its source relative to the
+    project and its element, so a shard keeps its elements as documents are added or removed elsewhere."""
+    identity = "%s\n%s" % (index.rel(target.path), target.element)
+    digest = hashlib.sha256(identity.encode("utf-8", "surrogatepass")).digest()
+    return int.from_bytes(digest[:8], "big") % count
 
 
 def _write(path, data):
@@ -563,11 +603,12 @@ def _scene_changed(recorded):
 # ---------------------------------------------------------------- update
 
 def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, progress=None, library_dirs=(),
-           strict=False, warnings=None, options=None):
+           strict=False, warnings=None, options=None, scheduler=None):
     """Render and (re)write goldens. `settings` (RenderSettings) overrides what each golden recorded;
     new goldens get RenderSettings() by default. Returns [(name, status, message lines)] with status
     created, updated, unchanged or error; the index is saved once at the end. Raises MtlxError when
-    there is nothing to update. warnings, strict: as for check()."""
+    there is nothing to update. warnings, strict, scheduler: as for check(); nothing is written before every
+    element is drawn (a scheduler lost on the way: MtlxError, and the goldens as they were)."""
     index = Index(golden_dir)
     tgts = targets(index, paths, library_dirs)
     if not tgts:
@@ -578,8 +619,18 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
             return settings
         return index.settings(t.entry) if t.entry else RenderSettings()
 
+    plan = {}
+    for t in tgts:
+        if t.error is None:
+            entry = {"source": index.rel(t.path), "element": t.element, "png": t.name + ".png",
+                     "settings": index.portable_settings(settings_for(t).to_dict())}
+            if t.entry and t.entry.get("tolerance"):
+                entry["tolerance"] = t.entry["tolerance"]
+            plan[(t.path, t.element)] = {"entry": entry, "old": t.entry, "exr_name": t.name + ".exr",
+                                         "png": index.file(entry["png"]), "exr": index.file(t.name + ".exr")}
     items = batch.render_jobs(_jobs(tgts, settings_for), workers=workers, progress=progress,
-                              library_dirs=library_dirs, strict=strict, options=options)
+                              library_dirs=library_dirs, strict=strict, options=options, post=prepare_golden,
+                              post_args=plan, scheduler=scheduler)
     _collect_warnings(items, warnings)
     by_key = {(os.path.abspath(it.path), it.element): it for it in items}
     os.makedirs(index.dir, exist_ok=True)
@@ -589,27 +640,16 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
         if t.error is not None or it is None or not it.ok:
             out.append((t.name, "error", t.error or (it.error if it else ["not rendered"])))
             continue
-        img8 = to_srgb8(it.image)
-        entry = {"source": index.rel(t.path), "element": t.element, "png": t.name + ".png",
-                 "exr": t.name + ".exr" if is_hdr(it.image) else None,
-                 "settings": index.portable_settings(it.settings.to_dict()), "gl_renderer": it.gl_renderer}
-        if t.entry and t.entry.get("tolerance"):
-            entry["tolerance"] = t.entry["tolerance"]
-        png, exr = index.file(entry["png"]), index.file(t.name + ".exr")
-        try:        # an old golden that cannot be read (a dangling link, a FIFO, a broken file) is written anew
-            same = (t.entry is not None and os.path.exists(png)
-                    and {k: t.entry.get(k) for k in entry} == entry and np.array_equal(read_png8(png), img8)
-                    and (entry["exr"] is None or (os.path.exists(exr) and np.array_equal(
-                        read_image(exr), it.image.astype(np.float16).astype(np.float32)))))
-        except MtlxError:
-            same = False
-        if same:
+        done = it.outcome               # prepare_golden's, where the element was drawn
+        entry = done["entry"]
+        png, exr = plan[(t.path, t.element)]["png"], plan[(t.path, t.element)]["exr"]
+        if done["same"]:
             out.append((t.name, "unchanged", []))
             continue
         try:
-            _write_image(png, img8)
+            _write_image(png, done["img8"])
             if entry["exr"]:
-                _write_image(exr, it.image)
+                _write_image(exr, done["linear"])
             elif os.path.lexists(exr):
                 os.remove(exr)
         except (MtlxError, OSError) as e:     # (this golden is not written: its entry stays as it was)
@@ -621,3 +661,23 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
     if changed:
         index.save(changed)
     return out
+
+
+def prepare_golden(item, plan):
+    """batch.run_job's post step of update, run where the element was drawn: its index entry completed (exr,
+    gl_renderer), whether the stored golden already holds it (same entry, same pixels), and what update writes
+    where it does not (img8, and the linear image of an HDR render). The float image is dropped."""
+    hdr = is_hdr(item.image)
+    img8 = to_srgb8(item.image)
+    entry = dict(plan["entry"], exr=plan["exr_name"] if hdr else None, gl_renderer=item.gl_renderer)
+    old, png, exr = plan["old"], plan["png"], plan["exr"]
+    try:        # an old golden that cannot be read (a dangling link, a FIFO, a broken file) is written anew
+        same = (old is not None and os.path.exists(png)
+                and {k: old.get(k) for k in entry} == entry and np.array_equal(read_png8(png), img8)
+                and (entry["exr"] is None or (os.path.exists(exr) and np.array_equal(
+                    read_image(exr), item.image.astype(np.float16).astype(np.float32)))))
+    except MtlxError:
+        same = False
+    item.outcome = {"entry": entry, "same": same, "img8": None if same else img8,
+                    "linear": item.image if hdr and not same else None}
+    item.image = None

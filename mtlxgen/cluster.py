@@ -1,0 +1,273 @@
+"""batch, golden check and golden update on a Dask distributed cluster (`--scheduler ADDRESS`).
+
+ADDRESS is tcp://HOST:PORT (or tls://...), a running `dask scheduler` with `dask worker`s, or local:N, a
+LocalCluster of N worker processes started here for the run (one thread each: one GL context per process).
+Each task is batch.run_job on a chunk of one document's elements (batch.CHUNK at most): the very function the
+process pool runs, with the run's `post` step (golden check compares on the worker, and only a failure's images
+come back), so the results are those of a local run, byte for byte.
+
+Inputs are read from the same paths on every worker: documents, the textures and includes they name, the
+environment image, --library folders and the goldens are never shipped with the tasks (a document's textures
+and includes are only known once it is read). Workers therefore see the client's files where the client sees
+them: a shared or identical checkout, and the client's working directory, which each task runs in, so that
+relative paths and the lines that name them read as in a local run. Before any task is sent, every worker is
+asked whether it reads each document, the environment, each library folder and the golden index, with the
+same size (and for a sample, the same bytes) as here, and runs the same mtlxgen (a digest of its package
+files); a worker that does not is one line naming the file (or the worker) and nothing is run.
+
+Faults. A worker that dies mid-run: its tasks run elsewhere (the scheduler reschedules them) and each element
+is reported once. A task that kills its worker as often as the scheduler allows
+(`distributed.scheduler.allowed-failures`: 1 on the LocalCluster of local:N, so twice; set it on your own
+scheduler, e.g. DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=1) ends as KilledWorker: a chunk of several
+elements is then split and each element sent alone, and an element that kills its workers again is that
+element's failure, one line naming the document and element. A scheduler that goes away (or cannot be reached):
+MtlxError, one line naming it; the caller has written nothing yet (the client alone writes goldens, images and
+results, and only once every task is in).
+"""
+import functools
+import hashlib
+import logging
+import os
+import time
+from contextlib import contextmanager
+
+from .diagnostics import Loc, MtlxError
+
+LOCAL = "local:"
+SCHEMES = ("tcp://", "tls://")
+MAX_LOCAL_WORKERS = 256
+CONNECT_TIMEOUT = 10          # seconds to reach a scheduler
+PROBE_SAMPLE = 256            # documents whose bytes every worker compares with ours (the others: their size)
+RUNNING_EVERY = 0.5           # seconds between asks of the scheduler for the tasks running
+
+
+def check_address(text):
+    """The --scheduler value as given, or ValueError saying what is wrong with it (argparse shows one line)."""
+    if text.startswith(LOCAL):
+        n = text[len(LOCAL):]
+        if not n.isdigit() or not 1 <= int(n) <= MAX_LOCAL_WORKERS:
+            raise ValueError("%r: local:N needs N, worker processes, a whole number from 1 to %d"
+                             % (text, MAX_LOCAL_WORKERS))
+        return text
+    if text.startswith(SCHEMES):
+        host, _, port = text.split("://", 1)[1].rpartition(":")
+        if host and port.isdigit() and 0 < int(port) < 65536:
+            return text
+    raise ValueError("%r is not a scheduler address: tcp://HOST:PORT (a running dask scheduler) or local:N "
+                     "(N worker processes here)" % text)
+
+
+class Lost(MtlxError):
+    """The scheduler went away (or cannot be reached): one line naming it."""
+
+
+def _lost(address, why):
+    return Lost((Loc(address, 0), "%s; nothing was written (run again when the scheduler is back, or without "
+                                  "--scheduler)" % why))
+
+
+def _quiet():
+    for name in ("distributed", "distributed.scheduler", "distributed.worker", "distributed.nanny",
+                 "distributed.client", "distributed.core", "distributed.comm", "distributed.batched",
+                 "distributed.http.proxy", "bokeh", "tornado"):
+        logging.getLogger(name).setLevel(logging.CRITICAL)
+
+
+@contextmanager
+def connect(address):
+    """A distributed.Client of the scheduler at `address` (local:N: a LocalCluster started for the run and
+    closed after it). MtlxError, one line, when it cannot be reached."""
+    import dask
+    import distributed
+    _quiet()
+    cluster = None
+    settings = {"distributed.scheduler.allowed-failures": 1, "distributed.comm.timeouts.connect": "%ds" %
+                CONNECT_TIMEOUT, "distributed.worker.daemon": False, "distributed.admin.tick.limit": "1h",
+                "distributed.worker.multiprocessing-method": "spawn",      # never a process holding a GL context
+                "distributed.client.heartbeat": "1s"}
+    with dask.config.set(settings):
+        try:
+            if address.startswith(LOCAL):
+                cluster = distributed.LocalCluster(n_workers=int(address[len(LOCAL):]), threads_per_worker=1,
+                                                   processes=True, dashboard_address=None,
+                                                   silence_logs=logging.CRITICAL)
+                client = distributed.Client(cluster, set_as_default=False)
+            else:
+                client = distributed.Client(address, timeout=CONNECT_TIMEOUT, set_as_default=False)
+        except (OSError, TimeoutError) as e:
+            if cluster is not None:
+                cluster.close()
+            raise _lost(address, "cannot reach the Dask scheduler (%s)" % _why(e)) from None
+        try:
+            yield client
+        finally:
+            try:
+                client.close(timeout=5)
+            except Exception:       # (the scheduler is gone: nothing left to close)
+                pass
+            if cluster is not None:
+                cluster.close(timeout=10)
+
+
+def _why(e):
+    return " ".join(("%s" % e).split()) or type(e).__name__
+
+
+# ---------------------------------------------------------------- what every worker must see as we do
+
+@functools.lru_cache(maxsize=None)
+def package_digest():
+    """sha256 of this mtlxgen's own files (its modules and GLSL library): workers must run the same."""
+    root = os.path.dirname(os.path.abspath(__file__))
+    from .library import glsl_lib_root
+    h = hashlib.sha256()
+    for top in (root, glsl_lib_root()):
+        for base, dirs, names in os.walk(top):
+            dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+            for name in sorted(names):
+                if name.endswith((".py", ".glsl", ".mtlx", ".js", ".html")):
+                    path = os.path.join(base, name)
+                    h.update(os.path.relpath(path, top).encode("utf-8", "surrogatepass") + b"\0")
+                    with open(path, "rb") as f:
+                        h.update(f.read())
+    return h.hexdigest()
+
+
+def _digest(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def manifest(files, folders=()):
+    """What a worker must see: [(path, size, sha256 or None)] of the files (a sample of PROBE_SAMPLE with their
+    digest), the folders, and this mtlxgen's digest. Paths relative to the working directory stay so."""
+    files = sorted({f for f in files if os.path.isfile(f)})
+    step = max(1, -(-len(files) // PROBE_SAMPLE))
+    listed = [(f, os.path.getsize(f), _digest(f) if i % step == 0 else None) for i, f in enumerate(files)]
+    return {"cwd": os.getcwd(), "files": listed, "folders": sorted({d for d in folders if os.path.isdir(d)}),
+            "package": package_digest()}
+
+
+def probe(want):
+    """Run on a worker: the first reason it does not see `want` (manifest()) as the client does, or None."""
+    cwd = want["cwd"]
+    if not os.path.isdir(cwd):
+        return cwd, "the working directory is not on this worker (cluster workers read inputs at the client's paths)"
+    if package_digest() != want["package"]:
+        return "mtlxgen", "this worker runs another mtlxgen (its package files differ from the client's); install " \
+                          "the same version on every worker"
+    for d in want["folders"]:
+        if not os.path.isdir(os.path.join(cwd, d)):
+            return d, "not a folder this worker sees (cluster workers read inputs at the client's paths)"
+    for path, size, digest in want["files"]:
+        full = os.path.join(cwd, path)
+        try:
+            if os.path.getsize(full) != size or (digest is not None and _digest(full) != digest):
+                return path, "this worker reads other bytes here than the client (a checkout of another commit?)"
+            with open(full, "rb"):
+                pass
+        except OSError as e:
+            return path, "this worker cannot read it (%s; cluster workers read inputs at the client's paths)" % (
+                e.strerror or e)
+    return None
+
+
+def _check_workers(client, address, want):
+    try:
+        seen = client.run(probe, want)
+    except (OSError, TimeoutError) as e:
+        raise _lost(address, "lost the Dask scheduler (%s)" % _why(e)) from None
+    if not seen:
+        raise _lost(address, "the Dask scheduler has no workers")
+    for worker, problem in sorted(seen.items()):
+        if problem is not None:
+            raise MtlxError((Loc(problem[0], 0), "worker %s: %s" % (worker, problem[1])))
+
+
+# ---------------------------------------------------------------- running the tasks
+
+def in_cwd(cwd, job, library_dirs, strict, options, post, post_args):
+    """batch.run_job in the client's working directory (a task: relative paths read, and are named, as there)."""
+    from .batch import run_job
+    if os.getcwd() != cwd:
+        os.chdir(cwd)
+    return run_job(job, library_dirs, strict, options, post, post_args)
+
+
+def run_tasks(address, tasks, done, bar, library_dirs=(), strict=False, options=None, post=None, args_of=None):
+    """Run batch jobs `tasks` on the cluster at `address`; done(i, [Item]) for each as it comes in (in any
+    order; every task once). bar: the batch.Progress (its `running` is kept up to date)."""
+    from distributed import as_completed
+    from distributed.scheduler import KilledWorker
+
+    from .batch import Item, Job
+    files = [t.path for t in tasks] + [t.settings.environment for t in tasks]
+    want = manifest(files, list(library_dirs) + [os.path.dirname(os.path.abspath(t.path)) for t in tasks[:1]])
+    cwd = want["cwd"]
+    args_of = args_of or (lambda task: None)
+    with connect(address) as client:
+        _check_workers(client, address, want)
+
+        def submit(job):
+            key = "mtlxgen-%s-%s" % (os.path.basename(job.path)[:40], hashlib.sha1(repr(job).encode(
+                "utf-8", "surrogatepass")).hexdigest()[:12])
+            return client.submit(in_cwd, cwd, job, tuple(library_dirs), strict, options, post, args_of(job),
+                                 key=key, pure=False, retries=0)
+
+        futures = {}
+        for i, task in enumerate(tasks):
+            futures[submit(task)] = (i, None)
+        parts = {}                  # task index -> {element: [Item]} of a split chunk, until all its parts are in
+        ac = as_completed(list(futures), loop=client.loop)
+        last = 0.0
+        try:
+            for fut in ac:
+                i, element = futures.pop(fut)
+                task = tasks[i]
+                if fut.status == "finished":
+                    items = fut.result()
+                elif fut.status == "cancelled" or client.status not in ("running", "connecting"):
+                    raise _lost(address, "lost the Dask scheduler")
+                else:
+                    e = fut.exception()
+                    if isinstance(e, KilledWorker) and element is None and len(task.elements) > 1:
+                        parts[i] = {}
+                        for el in task.elements:        # each alone: the one that kills its workers is found
+                            alone = submit(Job(task.path, (el,), task.settings))
+                            futures[alone] = (i, el)
+                            ac.add(alone)
+                        continue
+                    if isinstance(e, KilledWorker):
+                        why = ("drawing it killed the worker process, and again where it was run once more (Dask "
+                               "KilledWorker); not drawn")
+                        items = [Item(task.path, el, task.settings, error=["%s:0: %s%s" % (
+                            task.path, "%s: " % el if el else "", why)]) for el in ((element,) if element else
+                                                                               task.elements or ("",))]
+                    else:
+                        from .batch import error_lines
+                        items = [Item(task.path, el, task.settings, error=error_lines(e, task.path, el))
+                                 for el in ((element,) if element else task.elements or ("",))]
+                fut.release()
+                if element is not None:
+                    parts[i][element] = items
+                    if len(parts[i]) < len(task.elements):
+                        continue
+                    items = [it for el in task.elements for it in parts.pop(i)[el]]
+                now = time.perf_counter()
+                if now - last > RUNNING_EVERY:
+                    last = now
+                    try:
+                        bar.running = sum(len(keys) for keys in client.processing().values())
+                    except Exception:
+                        bar.running = len(futures)
+                done(i, items)
+        except (OSError, TimeoutError) as e:
+            raise _lost(address, "lost the Dask scheduler (%s)" % _why(e)) from None
+        except Exception as e:
+            if type(e).__name__ in ("CancelledError", "FuturesCancelledError", "CommClosedError"):
+                raise _lost(address, "lost the Dask scheduler (%s)" % _why(e)) from None
+            raise
+        bar.running = 0
