@@ -60,6 +60,29 @@ def is_usd(path):
     return os.path.splitext(str(path))[1].lower() in USD_EXTENSIONS
 
 
+# Outputs that the registry (Sdr) definitions of UsdShade's own shaders declare (UsdPreviewSurface Specification
+# 2.5), beyond the MaterialX nodedef that stands for them here: a connection to one of them is resolved even where
+# the shader prim does not author it.
+_SDR_OUTPUTS = {"UsdPreviewSurface": ("surface", "displacement"), "UsdUVTexture": ("r", "g", "b", "a", "rgb"),
+                "UsdTransform2d": ("result",)}
+
+
+def _declared_outputs(spec):
+    """The output names a shader's definition declares: its nodedef's, and for UsdShade's own shaders the Sdr
+    definition's (the registry itself where USD has it)."""
+    names = set(spec.outputs) | set(_SDR_OUTPUTS.get(spec.shader_id, ()))
+    if spec.shader_id.startswith("UsdPrimvarReader_"):
+        names.add("result")
+    if not names and spec.shader_id:
+        try:
+            from pxr import Sdr
+            node = Sdr.Registry().GetShaderNodeByIdentifier(spec.shader_id)
+            names.update(node.GetShaderOutputNames() if node else ())
+        except Exception:           # no Sdr in this USD build, or a plugin that fails: the nodedef's alone
+            pass
+    return names
+
+
 @dataclass(frozen=True)
 class StageOptions:
     variants: tuple = ()            # ((variant set, variant name), ...) selected before reading
@@ -904,6 +927,10 @@ class _StageReader:
         from pxr import UsdShade
         sources, invalid = attr_api.GetConnectedSources()
         loc = self.attr_loc(attr_api.GetAttr())
+        if invalid and not sources:
+            declared = self.declared_output(invalid[0], loc)
+            if declared is not None:
+                return declared
         for path in invalid:
             prim = self.stage.GetPrimAtPath(path.GetPrimPath()) if path.IsPropertyPath() else None
             if prim and prim.IsValid() and (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):
@@ -917,6 +944,27 @@ class _StageReader:
         s = sources[0]
         prim = s.source.GetPrim()
         return prim, s.sourceName, s.sourceType == UsdShade.AttributeType.Output
+
+    def declared_output(self, path, loc):
+        """(shader prim, output name, True) for a connection to an output a shader prim does not author but its
+        definition declares (UsdPreviewSurface's outputs:displacement, a MaterialX nodedef's outputs:out): UsdShade
+        resolves such a connection through the shader's registry definition, and so do we (warned). None for
+        anything else."""
+        from pxr import UsdShade
+        if not path.IsPropertyPath() or not path.name.startswith("outputs:"):
+            return None
+        prim = self.stage.GetPrimAtPath(path.GetPrimPath())
+        if not prim or not prim.IsValid() or not prim.IsA(UsdShade.Shader):
+            return None
+        name = path.name[len("outputs:"):]
+        spec = self.spec(prim)
+        if spec.problem or name not in _declared_outputs(spec):
+            return None
+        item = (loc, "connects to <%s>, which <%s> does not author: read as the output %s declares, as UsdShade "
+                     "resolves it" % (path, path.GetPrimPath(), spec.shader_id))
+        if item not in self.doc.warnings:
+            self.doc.warnings.append(item)
+        return prim, name, True
 
     def resolve(self, attr_api, scope_path, problems):
         """Follow a consumer's connection to what the consumer in `scope_path` reads:
