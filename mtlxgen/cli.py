@@ -385,7 +385,7 @@ def cmd_golden_check(args):
     run = golden.check(args.paths, args.goldens or golden.DEFAULT_DIR, args.output, tol, workers=args.workers,
                        progress=False if args.no_progress else None, flip=not args.no_flip,
                        library_dirs=args.library, strict=args.strict, warnings=warnings,
-                       options=_session_options(args))
+                       options=_session_options(args), scheduler=args.scheduler, shard=args.shard)
     _print_warnings(warnings)
     _print_check(run, args.verbose)
     html_path = report.write_report(run.out_dir)
@@ -414,7 +414,8 @@ def cmd_golden_update(args):
     warnings = []
     done = golden.update(args.paths, args.goldens, settings, workers=args.workers,
                          progress=False if args.no_progress else None, library_dirs=args.library,
-                         strict=args.strict, warnings=warnings, options=_session_options(args))
+                         strict=args.strict, warnings=warnings, options=_session_options(args),
+                         scheduler=args.scheduler)
     _print_warnings(warnings)
     status = 0
     for name, what, lines in done:
@@ -458,7 +459,8 @@ def cmd_batch(args):
         print(line, file=sys.stderr)
     items = batch.render_jobs(jobs, workers=args.workers,
                               progress=False if args.no_progress else None, library_dirs=args.library,
-                              strict=args.strict, options=_session_options(args))
+                              strict=args.strict, options=_session_options(args), post=batch.srgb8_drawn,
+                              scheduler=args.scheduler)
     _print_warnings(line for it in items for line in it.warnings)
     status, printed, written = (1 if skipped else 0), set(), {}
     for it in items:
@@ -478,7 +480,7 @@ def cmd_batch(args):
                   % (it.path, os.path.basename(out), written[out]), file=sys.stderr)
             continue
         try:                            # one image that cannot be written: said, and the others written
-            images.write_image(out, it.image)
+            images.write_image(out, it.outcome["srgb8"])
         except MtlxError as e:
             status = 1
             print("\n".join(e.lines()), file=sys.stderr)
@@ -487,6 +489,34 @@ def cmd_batch(args):
             print("%s:0: cannot write image: %s" % (out, e.strerror or e), file=sys.stderr)
     print(batch.timing_table([("%s:%s" % (it.path, it.element), it.timings, it.ok) for it in items]))
     return status
+
+
+def _scheduler(text):
+    from .cluster import check_address
+    try:
+        return check_address(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def _shard(text):
+    k, _, n = text.partition("/")
+    if not (k.isdigit() and n.isdigit() and 1 <= int(k) <= int(n) <= 100000):
+        raise argparse.ArgumentTypeError("%r is not K/N: the K-th of N shards, 1 <= K <= N" % text)
+    return int(k), int(n)
+
+
+def cmd_golden_report(args):
+    from . import report
+    merged = report.merge_shards(args.shards, args.output)
+    c = {k: sum(1 for r in merged["results"] if r["status"] == k) for k in ("pass", "fail", "missing", "error")}
+    for note in merged["notes"]:
+        print("note: " + note, file=sys.stderr)
+    html_path = report.write_report(args.output)
+    print("golden report: %d shard%s, %d passed, %d failed, %d missing, %d errors; report %s"
+          % (len(args.shards), "" if len(args.shards) == 1 else "s", c["pass"], c["fail"], c["missing"], c["error"],
+             _show(html_path)))
+    return 0 if merged["complete"] and c["pass"] == len(merged["results"]) else 1
 
 
 COMMANDS = ("generate", "render", "info", "view", "web", "three", "golden", "report", "batch")
@@ -652,10 +682,15 @@ def build_parser(command=None):
                             "text after its number, a color3 input fed by a vector3, an input its nodedef lacks) is "
                             "reported and that element not written (default: read as MaterialX reads it, warned)")
 
+    def scheduler(p):
+        p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS",
+                       help="draw (and compare) on a Dask cluster: tcp://HOST:PORT of a running scheduler, or local:N "
+                            "for N worker processes here; workers read inputs at the same paths (docs/cluster.md)")
+
     if command in (None, "golden"):
         p = sub.add_parser("golden",
                            help="golden-image regression: check renders against golden_images/, or update them")
-        gsub = p.add_subparsers(dest="golden_command", metavar="{check,update}", required=True)
+        gsub = p.add_subparsers(dest="golden_command", metavar="{check,update,report}", required=True)
         g = gsub.add_parser("check", help="render and compare with the goldens; exit 1 on any difference")
         g.add_argument("paths", nargs="*", metavar="PATH",
                        help=".mtlx files, USD stages, directories (searched for both), or FILE:ELEMENT (default: every "
@@ -674,7 +709,11 @@ def build_parser(command=None):
         g.add_argument("--no-flip", action="store_true", help="skip the FLIP score")
         g.add_argument("--timings", action="store_true", help="print per-material timings")
         g.add_argument("-v", "--verbose", action="store_true", help="list passing materials too")
+        g.add_argument("--shard", type=_shard, default=None, metavar="K/N",
+                       help="check the K-th of N shards of the elements (by a hash of each one's source and element: "
+                            "stable as documents come and go); merge the shards' outputs with `golden report`")
         pool(g)
+        scheduler(g)
         g.set_defaults(func=cmd_golden_check)
         g = gsub.add_parser("update", help="render and rewrite goldens (and their index entries)")
         g.add_argument("paths", nargs="*", metavar="PATH",
@@ -687,7 +726,15 @@ def build_parser(command=None):
                        help="lat-long HDR/EXR environment (default: recorded, else built-in sky)")
         g.add_argument("-v", "--verbose", action="store_true", help="list unchanged goldens too")
         pool(g)
+        scheduler(g)
         g.set_defaults(func=cmd_golden_update)
+        g = gsub.add_parser("report", help="merge the outputs of `golden check --shard K/N` runs into one "
+                                           "results.json and report; exit 1 unless every element passed")
+        g.add_argument("shards", nargs="+", metavar="DIR", type=_existing_dir,
+                       help="`golden check` output directories (one per shard)")
+        g.add_argument("-o", "--output", required=True, metavar="DIR", type=_output_dir,
+                       help="where the merged results.json, the failures' images and report.html go")
+        g.set_defaults(func=cmd_golden_report)
 
     if command in (None, "report"):
         p = sub.add_parser("report", help="one self-contained HTML page from a golden check's output directory")
@@ -713,6 +760,7 @@ def build_parser(command=None):
         p.add_argument("--env", metavar="FILE", type=_readable_file,
                        help="lat-long HDR/EXR environment (default: built-in sky)")
         pool(p)
+        scheduler(p)
         p.set_defaults(func=cmd_batch)
     return ap
 

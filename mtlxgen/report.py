@@ -348,3 +348,90 @@ def write_report(out_dir, html_path=None, title="mtlxgen golden check"):
     os.makedirs(os.path.dirname(os.path.abspath(html_path)), exist_ok=True)
     write_atomic(html_path, text)
     return html_path
+
+
+# ---------------------------------------------------------------- shards (golden check --shard K/N)
+
+def _shard_info(data, loc):
+    """results.json's "shard" object ({"index": K, "count": N, "elements": all the shards' elements}) or None."""
+    s = data.get("shard")
+    if s is None:
+        return None
+    ok = isinstance(s, dict) and all(isinstance(s.get(k), int) and not isinstance(s.get(k), bool)
+                                     for k in ("index", "count", "elements"))
+    if not ok or not 1 <= s["index"] <= s["count"] or s["elements"] < 0:
+        raise MtlxError((loc, "shard: %s is not {\"index\": K, \"count\": N, \"elements\": E} with 1 <= K <= N"
+                         % _shown(s)))
+    return s
+
+
+def merge_shards(dirs, out_dir):
+    """Merge the outputs of `golden check --shard K/N` runs (or of any checks of disjoint elements) into out_dir:
+    one results.json (results in shard order, notes each once) and the failures' images copied beside it.
+    Each results.json is read as load_results reads it (its schema checked) and its files as the report embeds
+    them (embedded_images: inside its folder, PNGs that decode). Refused, one line naming the file: an element
+    reported by two shards, shards of different counts or of different element sets (another commit), a shard
+    twice, shard and plain outputs mixed, out_dir one of the shards. Missing shards (of the N) are a note and
+    "complete": False in what is returned (the merged results.json's data plus "complete")."""
+    out_real = os.path.realpath(out_dir)
+    loaded, seen, infos = [], {}, []
+    for d in dirs:
+        loc = Loc(os.path.join(d, RESULTS), 0)
+        if os.path.realpath(d) == out_real:
+            raise MtlxError((loc, "the merged output folder is this shard's folder; give another with -o"))
+        data = load_results(d)
+        embedded_images(data, d)            # every files entry inside the folder, the images shown PNGs
+        info = _shard_info(data, loc)
+        for i, r in enumerate(data["results"]):
+            if r["name"] in seen:
+                raise MtlxError((loc, "results[%d]: %s (%s:%s) is also in %s; merge each shard once, of one check"
+                                 % (i, r["name"], r["source"], r["element"], seen[r["name"]])))
+            seen[r["name"]] = loc.file
+        loaded.append((d, loc, data))
+        infos.append((loc, info))
+    sharded = [(loc, s) for loc, s in infos if s is not None]
+    notes, complete = [], True
+    if sharded:
+        if len(sharded) != len(infos):
+            loc = next(loc for loc, s in infos if s is None)
+            raise MtlxError((loc, "not the output of a `golden check --shard K/N` run, merged with shards"))
+        first_loc, first = sharded[0]
+        indices = {}
+        for loc, s in sharded:
+            if s["count"] != first["count"] or s["elements"] != first["elements"]:
+                raise MtlxError((loc, "shard %d/%d of %d elements, merged with shard %d/%d of %d elements (%s): "
+                                 "shards of one check of one commit merge" % (s["index"], s["count"], s["elements"],
+                                                                             first["index"], first["count"],
+                                                                             first["elements"], first_loc.file)))
+            if s["index"] in indices:
+                raise MtlxError((loc, "shard %d/%d is also %s" % (s["index"], s["count"], indices[s["index"]])))
+            indices[s["index"]] = loc.file
+        missing = [k for k in range(1, first["count"] + 1) if k not in indices]
+        if missing:
+            complete = False
+            notes.append("shard%s %s of %d not merged: %d of %d shards' elements are in this report"
+                         % ("" if len(missing) == 1 else "s", ", ".join(str(k) for k in missing[:20]) +
+                            (", ..." if len(missing) > 20 else ""), first["count"], first["count"] - len(missing),
+                            first["count"]))
+    tolerances = [data.get("tolerance") for _, _, data in loaded if data.get("tolerance") is not None]
+    if any(t != tolerances[0] for t in tolerances):
+        notes.append("the shards were checked with different tolerances (the first shard's is shown)")
+    for _, _, data in loaded:
+        notes += [n for n in data.get("notes") or [] if n not in notes]
+    os.makedirs(out_dir, exist_ok=True)
+    results = []
+    for d, loc, data in loaded:
+        for r in data["results"]:
+            kept = {}
+            for key, name in sorted(r["files"].items()):
+                src = os.path.join(d, name)
+                if regular_file_problem(src, "image") is not None:      # gone (a check keeps only failures')
+                    continue
+                write_atomic(os.path.join(out_dir, name), read_bounded(src, Loc(src, 0), "image", MAX_BYTES["image"]))
+                kept[key] = name
+            results.append(dict(r, files=kept))
+    merged = {"golden_dir": loaded[0][2].get("golden_dir"), "tolerance": tolerances[0] if tolerances else None,
+              "notes": notes, "results": results,
+              "shards": [{"from": d, **(s or {})} for (d, _, _), (_, s) in zip(loaded, infos)]}
+    write_atomic(os.path.join(out_dir, RESULTS), json.dumps(merged, indent=1, sort_keys=True) + "\n")
+    return dict(merged, complete=complete)
