@@ -15,8 +15,62 @@ The pipeline, one module a stage, plain data between them:
 
     view       a document, live   -> a window redrawn as the files change (render's drawing path, hot reload,
                                      progressive sampling, property panel: geometry, docedit, viewpanel)
+
+The public API (api.py; __all__ below): generate, render, Session, Shader, DocumentError, DocumentWarning,
+Options; environment (environment.py) prepares u_envRadiance and u_envIrradiance for any GL host.
+docs/interface.md describes the shaders' application interface and the manifest.
 """
-__version__ = "0.1.0"
+
+__all__ = ["generate", "render", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
+           "Problem", "environment", "is_usd", "__version__"]
+
+# The public API (api.py) is imported on first use: `import mtlxgen` stays cheap for mtlxgen.is_usd's callers and
+# the command line's start.
+# mtlxgen.render is the renderer's module (render.py), made callable: mtlxgen.render(shader_or_source, ...) is
+# api.render (a function of that name would be replaced by the module as soon as anything imports it).
+_API = frozenset(("generate", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
+                  "Problem"))
+
+
+def __getattr__(name):
+    if name in _API:
+        from . import api
+        value = getattr(api, name)
+    elif name in ("environment", "render"):
+        import importlib
+        value = importlib.import_module("." + name, __name__)
+    elif name == "__version__":
+        value = _version()
+    else:
+        raise AttributeError("module 'mtlxgen' has no attribute %r" % name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
+
+def _version():
+    """The installed distribution's version; where mtlxgen runs from a checkout that was never installed, the
+    version pyproject.toml names."""
+    try:
+        from importlib.metadata import PackageNotFoundError, version
+        try:
+            return version("mtlxgen")
+        except PackageNotFoundError:
+            pass
+    except ImportError:
+        pass
+    import os
+    import re
+    try:
+        with open(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pyproject.toml"),
+                  encoding="utf-8") as f:
+            m = re.search(r'^version\s*=\s*"([^"]+)"', f.read(), re.M)
+        return m.group(1) if m else "0+unknown"
+    except OSError:
+        return "0+unknown"
 
 # usdstage.USD_EXTENSIONS, here so that telling a USD stage from a .mtlx document imports nothing (usdstage's
 # import costs a small generation's time); tests/test_library_index.py holds them equal

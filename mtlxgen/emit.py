@@ -44,12 +44,21 @@ class Shader:
         if self.stem is None:
             self.stem = file_stem(self.element)
 
-    def write(self, out_dir):
+    @property
+    def name(self):
+        """The element's name path (mtlxgen.Shader.name: the public API's spelling of `element`)."""
+        return self.element
+
+    def write(self, out_dir, absolute_paths=False):
         """Write STEM.vert, STEM.frag and STEM.json into out_dir (made where missing), each through a temporary
-        file and a rename (files.write_atomic: a symlink at an output is replaced, never followed). Returns
+        file and a rename (files.write_atomic: a symlink at an output is replaced, never followed). Texture files
+        in STEM.json are relative to out_dir (interface.relative_textures), absolute with absolute_paths. Returns
         the paths; MtlxError (one line naming the file) where the file system refuses."""
         from .files import write_atomic
+        from .interface import relative_textures
         manifest = dict(self.manifest, vertex=self.stem + ".vert", fragment=self.stem + ".frag")
+        if not absolute_paths:
+            manifest = relative_textures(manifest, out_dir)
         paths = []
         p = out_dir
         try:

@@ -95,3 +95,36 @@ def manifest_entry(u, max_lights=MAX_LIGHTS):
     if u.name == "u_lightData":
         entry["members"] = [{"name": n, "type": t} for n, t in LIGHT_DATA]
     return entry
+
+
+def relative_textures(manifest, folder):
+    """`manifest` with each texture file that is an absolute path made relative to `folder` (where the manifest is
+    written: a consumer joins the manifest's folder and the name). A file on another drive (Windows) stays absolute;
+    a name that resolved to no file stays as the document wrote it."""
+    import os
+    textures = manifest.get("textures")
+    if not textures:
+        return manifest
+    base = os.path.abspath(folder)
+    out = []
+    for t in textures:
+        f = t.get("file")
+        if f and os.path.isabs(f):
+            try:
+                t = dict(t, file=os.path.relpath(f, base).replace(os.sep, "/"))
+            except ValueError:          # another drive
+                pass
+        out.append(t)
+    return dict(manifest, textures=out)
+
+
+def absolute_textures(manifest, folder):
+    """The inverse of relative_textures for a manifest read from `folder`: each relative texture file joined to it
+    (what a host reading NAME.json does before opening the files)."""
+    import os
+    textures = manifest.get("textures")
+    if not textures:
+        return manifest
+    base = os.path.abspath(folder)
+    return dict(manifest, textures=[dict(t, file=os.path.normpath(os.path.join(base, t["file"])))
+                                    if t.get("file") and not os.path.isabs(t["file"]) else t for t in textures])

@@ -12,6 +12,7 @@ two as it is read) and handed to GL without another copy. A texture file that is
 default; one that is there but cannot be bound (not a regular file, not an image, damaged) is an error.
 """
 import os
+import sys
 import time
 from dataclasses import dataclass
 from typing import Callable, Optional
@@ -587,3 +588,14 @@ class Renderer:
         if clear:
             ctx.clear(0.0, 0.0, 0.0, 0.0)
         prepared.vao.render()
+
+
+class _Module(type(sys.modules[__name__])):
+    """This module, callable: mtlxgen.render(shader_or_source, ...) is the public API's render (api.render)."""
+
+    def __call__(self, *args, **kwargs):
+        from .api import render
+        return render(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _Module

@@ -31,6 +31,9 @@ def one(base, size):
     r = Renderer.scoreboard(size=size)
     vs, fs = open(base + ".vert").read(), open(base + ".frag").read()
     manifest = json.load(open(base + ".json")) if os.path.exists(base + ".json") else None
+    if manifest is not None:        # texture files are relative to the manifest's folder
+        from mtlxgen.interface import absolute_textures
+        manifest = absolute_textures(manifest, os.path.dirname(os.path.abspath(base)))
     t0 = time.perf_counter()
     prepared = r.prepare(vs, fs, manifest)
     t1 = time.perf_counter()

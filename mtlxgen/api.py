@@ -1,0 +1,364 @@
+"""mtlxgen's Python API: MaterialX documents to GLSL shaders, and pictures of them, from Python.
+
+    import mtlxgen
+
+    for shader in mtlxgen.generate("material.mtlx"):          # a path, a string of XML, or a USD stage
+        print(shader.name, len(shader.fragment), shader.manifest["uniforms"][:1])
+        shader.write("out")                                   # out/NAME.vert, .frag, .json
+    image = mtlxgen.render("material.mtlx", size=256)       # linear RGBA float32, row 0 on top
+
+    with mtlxgen.Session() as session:                        # one GL context and library for many documents
+        for path in paths:
+            image = session.render(session.generate(path)[0])
+
+Problems in a document raise mtlxgen.DocumentError, which carries every `FILE:LINE: problem` (its `problems`, and
+str() of it one a line). Slips MaterialX reads past are warnings: each goes through Python's `warnings` module as
+a mtlxgen.DocumentWarning (filter them, or turn them into errors, as any warning) and the list generate returns
+holds them as lines in `.warnings`. The command line (`mtlxgen generate`, `render`, `web`, `three`) is built on
+this module's generation: what the API returns is what the commands write.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import warnings as _warnings
+from dataclasses import dataclass, field, fields
+from typing import Any, Iterable, NamedTuple, Optional, Sequence, Union
+
+from . import is_usd
+from .diagnostics import Loc, MtlxError, Warnings
+from .emit import Shader
+
+__all__ = ["generate", "render", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
+           "Problem"]
+
+PathLike = Union[str, "os.PathLike[str]"]
+STRING_SOURCE = "<string>"      # the file name problems in a document given as a string of XML are reported at
+
+
+class Problem(NamedTuple):
+    """One problem in a document: where (`loc`: file and line, or a USD stage's prim path) and what."""
+    loc: Loc
+    message: str
+
+    @property
+    def file(self) -> str:
+        return self.loc.file
+
+    @property
+    def line(self) -> int:
+        """The line in `file` (0: the file as a whole, or a USD stage's prim: see `loc.where`)."""
+        return self.loc.line
+
+    def __str__(self) -> str:
+        return MtlxError([tuple(self)]).lines()[0]
+
+
+class DocumentError(MtlxError):
+    """A document (or a texture it names) that cannot be turned into shaders or drawn. `problems` holds every
+    Problem found, each `FILE:LINE: what is wrong` as str() shows it; str() of the error is all of them, one a
+    line. `warnings` holds the warnings met before the problems (Problem too)."""
+
+    def __init__(self, problems, warnings=()):
+        super().__init__([Problem(*p) for p in ([problems] if isinstance(problems, tuple) else problems)],
+                         [Problem(*w) for w in warnings])
+
+    @classmethod
+    def of(cls, error: MtlxError) -> "DocumentError":
+        return error if isinstance(error, cls) else cls(error.problems, error.warnings)
+
+
+class DocumentWarning(UserWarning):
+    """A slip MaterialX reads past (a value with text after its number, an input its nodedef lacks): the document is
+    read as MaterialX reads it. The message is the `FILE:LINE: warning: ...` line; `problem` its Problem."""
+
+    def __init__(self, line: str, problem: Optional[Problem] = None):
+        super().__init__(line)
+        self.problem = problem
+
+
+class Shaders(list):
+    """The shaders generate returns (a list of Shader, one per renderable element, in document order), with the
+    warnings met making them as `FILE:LINE: warning: ...` lines in `.warnings`."""
+    warnings: list
+
+    def __init__(self, shaders=(), warnings=()):
+        super().__init__(shaders)
+        self.warnings = list(warnings)
+
+
+@dataclass(frozen=True)
+class Options:
+    """How shaders are generated beyond the target and interface (each a command-line option of the same name).
+
+    library_dirs: extra folders of .mtlx definitions (--library); environment: "fis" (filtered importance sampling
+    of u_envRadiance, u_envRadianceSamples samples) or "prefiltered" (one mip lookup per lobe); max_lights: direct
+    lights the shaders loop over in u_lightData[] (0: environment light only); strict: warnings are errors; keep:
+    inputs the reduced interface keeps uniforms (their complete-interface uniform names, or NODE/INPUT);
+    usd_seed_rules: USD's preview nodes by the UsdPreviewSurface seed's rules (None: on for documents from USD);
+    variants: USD stages, (variant set, variant) pairs to select; render_context: USD stages, "mtlx" or
+    "universal"."""
+    library_dirs: Sequence[str] = ()
+    environment: str = "fis"
+    max_lights: int = 0
+    strict: bool = False
+    keep: Sequence[str] = ()
+    usd_seed_rules: Optional[bool] = None
+    variants: Sequence[tuple] = ()
+    render_context: Optional[str] = None
+
+    @classmethod
+    def of(cls, options) -> "Options":
+        """Options from None, an Options, or a dict of its fields (an unknown name is a TypeError)."""
+        if options is None:
+            return cls()
+        if isinstance(options, cls):
+            return options
+        if isinstance(options, dict):
+            unknown = set(options) - {f.name for f in fields(cls)}
+            if unknown:
+                raise TypeError("unknown option(s) %s; options are %s"
+                                % (", ".join(sorted(unknown)), ", ".join(f.name for f in fields(cls))))
+            return cls(**options)
+        raise TypeError("options must be a mtlxgen.Options or a dict, not %s" % type(options).__name__)
+
+
+# ---------------------------------------------------------------- sources
+
+def _is_xml_text(source) -> bool:
+    return isinstance(source, str) and source.lstrip("\ufeff \t\r\n").startswith("<")
+
+
+class _Source:
+    """A document to read: a path as it is, or a string of XML written to a file of its own for the reading (its
+    problems and warnings reported at <string>:LINE; relative file names in it resolve against no folder of the
+    caller's: name textures by absolute path, or pass a file)."""
+
+    def __init__(self, source):
+        self.folder = None
+        if _is_xml_text(source):
+            self.folder = tempfile.mkdtemp(prefix="mtlxgen-")
+            self.path = os.path.join(self.folder, "document.mtlx")
+            with open(self.path, "w", encoding="utf-8") as f:
+                f.write(source)
+        elif isinstance(source, (str, os.PathLike)):
+            self.path = os.fspath(source)
+        else:
+            raise TypeError("source must be a path, a string of XML or a USD stage's path, not %s"
+                            % type(source).__name__)
+
+    def loc(self, loc):
+        if self.folder is not None and loc.file == self.path:
+            return Loc(STRING_SOURCE, loc.line, loc.where)
+        return loc
+
+    def items(self, items):
+        return [(self.loc(loc), message) for loc, message in items]
+
+    def error(self, e: MtlxError) -> DocumentError:
+        return DocumentError(self.items(e.problems), self.items(e.warnings))
+
+    def close(self):
+        if self.folder is not None:
+            shutil.rmtree(self.folder, ignore_errors=True)
+            self.folder = None
+
+
+def stage_options(path, variants=(), render_context=None):
+    """usdstage.StageOptions for a USD stage (None for a .mtlx document); variants or a render context for a .mtlx
+    document is a problem (one line at the file)."""
+    variants = tuple(variants or ())
+    if not is_usd(path):
+        if variants or render_context:
+            raise DocumentError((Loc(path, 0), "%s applies to USD stages (.usd, .usda, .usdc, .usdz) only"
+                                 % ("--variant" if variants else "--render-context")))
+        return None
+    from .usdstage import StageOptions
+    return StageOptions(variants=variants, render_context=render_context or "mtlx")
+
+
+def _interface(interface, keep):
+    from . import reduce
+    if isinstance(interface, reduce.Interface):
+        return interface
+    if interface not in ("complete", "reduced"):
+        raise ValueError("interface must be 'complete' or 'reduced', not %r" % (interface,))
+    if keep and interface == "complete":
+        raise ValueError("keep names inputs kept uniforms in the reduced interface: use interface='reduced'")
+    return reduce.interface(interface, list(keep), None)
+
+
+def generate_partial(source, elements=None, *, target="glsl", interface="complete", options=None,
+                     unreadable_textures="warning", warnings=None, max_lights=None):
+    """(shaders that worked, DocumentError or None): every element tried, the problems of those that failed
+    collected. What generate and the command line share. warnings: a diagnostics.Warnings that receives the
+    warnings (as (Loc, message), <string> for a string's); max_lights: options.max_lights unless given (render
+    binds a rig's lights). unreadable_textures: "warning" (generate) or "error" (whatever draws)."""
+    from . import pipeline
+    from .targets import NAMES
+    opts = Options.of(options)
+    if target not in NAMES:
+        raise ValueError("target must be one of %s, not %r" % (", ".join(NAMES), target))
+    iface = _interface(interface, opts.keep)
+    src = _Source(source)
+    found = Warnings()
+    try:
+        shaders, error = pipeline.generate(
+            src.path, list(elements) if elements else None, tuple(opts.library_dirs), partial=True,
+            usd_seed_rules=opts.usd_seed_rules, environment=opts.environment,
+            usd_options=stage_options(src.path, opts.variants, opts.render_context), strict=opts.strict,
+            warnings=found, target=target, interface=iface,
+            max_lights=opts.max_lights if max_lights is None else max_lights, unreadable_textures=unreadable_textures)
+        return shaders, (src.error(error) if error is not None else None)
+    except MtlxError as e:
+        raise src.error(e) from None
+    finally:
+        if warnings is not None:
+            warnings.extend(src.items(found.items))
+        src.close()
+
+
+def _elements(element) -> Optional[list]:
+    if element is None:
+        return None
+    if isinstance(element, str):
+        return [element]
+    return list(element)
+
+
+def _warn(items, stacklevel):
+    lines = Warnings()
+    lines.extend(items)
+    out = lines.lines()
+    for line, item in zip(out, lines.items):
+        _warnings.warn(DocumentWarning(line, Problem(*item)), stacklevel=stacklevel + 1)
+    return out
+
+
+# ---------------------------------------------------------------- the public calls
+
+def generate(source: Union[PathLike, str], element: Union[str, Iterable[str], None] = None, *, target: str = "glsl",
+             interface: str = "complete", options: Union[Options, dict, None] = None) -> Shaders:
+    """The shaders of a document's renderable elements (or of `element`: a name path, a USD material's prim path or
+    name, or several of them).
+
+    source: a .mtlx file's path, a string of MaterialX XML, or a USD stage's path (.usd, .usda, .usdc, .usdz).
+    target: "glsl" (desktop GLSL 4.00), "essl" (WebGL2's GLSL ES 3.00) or "vulkan" (GLSL 4.50 for SPIR-V).
+    interface: "complete" (every public input a uniform) or "reduced" (unconnected inputs become constants;
+    Options.keep keeps some uniforms).
+    options: an Options (or a dict of its fields).
+
+    Returns a Shaders list of Shader (name, vertex, fragment, manifest; write(folder) writes NAME.vert, .frag and
+    .json). Raises DocumentError with every problem of every element where any element fails (generate_partial
+    gives the others too); warnings go through the `warnings` module as DocumentWarning and are in `.warnings`.
+    A texture file that cannot be read is a warning (the shader is valid; its default colour is drawn)."""
+    found = Warnings()
+    shaders, error = generate_partial(source, _elements(element), target=target, interface=interface,
+                                      options=options, warnings=found)
+    lines = _warn(found.items, 2)
+    if error is not None:
+        raise error
+    return Shaders(shaders, lines)
+
+
+def render(shader_or_source: Union[Shader, PathLike, str], element: Optional[str] = None, *, size: int = 256,
+           environment=None, samples: int = 64, options: Union[Options, dict, None] = None):
+    """A picture of a shader (or of a document's element: its first renderable one unless `element` names one) on
+    `render`'s sphere, lit by `environment`, as a numpy array: linear RGBA float32, shape (size, size, 4), row 0 on
+    top; what `mtlxgen render` writes to NAME.exr.
+
+    environment: None (the built-in sky), a lat-long HDR/EXR path, or an (h, w, 3) float array. samples:
+    u_envRadianceSamples (render's 64). options: how a document is generated (Options). A texture file that cannot
+    be read raises DocumentError here, as the command does (a picture without it would be wrong)."""
+    with Session(size=size, environment=environment, samples=samples, options=options) as session:
+        return session.render(shader_or_source, element)
+
+
+class Session:
+    """Generation and drawing for many documents: one OpenGL context (made at the first render), one environment,
+    the libraries read once. A context manager; close() releases the GL context.
+
+    target, interface, options: as generate takes them, for every document; size, environment, samples: as render
+    takes them, for every picture (each render call may give others)."""
+
+    def __init__(self, *, target: str = "glsl", interface: str = "complete",
+                 options: Union[Options, dict, None] = None, size: int = 256, environment=None, samples: int = 64):
+        self.target, self.interface, self.options = target, interface, Options.of(options)
+        self.size, self.environment, self.samples = int(size), environment, int(samples)
+        self._renderer = None
+        self._renderer_env = None
+
+    def generate(self, source: Union[PathLike, str], element: Union[str, Iterable[str], None] = None) -> Shaders:
+        """generate(source, element) with this session's target, interface and options."""
+        found = Warnings()
+        shaders, error = generate_partial(source, _elements(element), target=self.target, interface=self.interface,
+                                          options=self.options, warnings=found)
+        lines = _warn(found.items, 2)
+        if error is not None:
+            raise error
+        return Shaders(shaders, lines)
+
+    def render(self, shader_or_source: Union[Shader, PathLike, str], element: Optional[str] = None, *,
+               size: Optional[int] = None, environment=None, samples: Optional[int] = None):
+        """render(...) with this session's GL context: a Shader as it is, or a document's element generated first."""
+        from . import pipeline
+        if isinstance(shader_or_source, Shader):
+            shader = shader_or_source
+        else:
+            found = Warnings()
+            shaders, error = generate_partial(shader_or_source, _elements(element), target=self.target,
+                                              interface=self.interface, options=self.options,
+                                              unreadable_textures="error", warnings=found)
+            _warn(found.items, 2)
+            if error is not None:       # a picture of the wrong element, or of one missing a texture, is no answer
+                raise error
+            shader = shaders[0]
+        renderer = self._renderer_for(size or self.size, environment if environment is not None else self.environment)
+        renderer.env_samples = int(samples or self.samples)
+        try:
+            return renderer.render(shader)
+        except MtlxError as e:
+            raise DocumentError.of(pipeline.at_inputs(shader, e)) from None
+
+    def _renderer_for(self, size, environment):
+        from . import render as _render
+        key = environment if isinstance(environment, (str, os.PathLike, type(None))) else id(environment)
+        if self._renderer is not None and self._renderer.size != size:
+            self._renderer.close()
+            self._renderer = None
+        if self._renderer is None:
+            self._renderer = _render.Renderer(size=size, environment=_environment_map(environment),
+                                              env_samples=self.samples)
+            self._renderer_env = key
+        elif self._renderer_env != key:
+            self._renderer.set_environment(_environment_map(environment))
+            self._renderer_env = key
+        return self._renderer
+
+    def close(self):
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    def __enter__(self) -> "Session":
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def _environment_map(environment):
+    """The radiance map a Renderer lights with: None (its sky), a file read as render reads --env, or an array."""
+    if environment is None:
+        return None
+    if isinstance(environment, (str, os.PathLike)):
+        from .environment import load_environment
+        try:
+            return load_environment(os.fspath(environment))
+        except MtlxError as e:
+            raise DocumentError.of(e) from None
+    from .environment import Environment
+    if isinstance(environment, Environment):
+        return environment.radiance[0]
+    return environment
