@@ -16,7 +16,7 @@ from mtlxgen import images, pipeline
 from mtlxgen.emit import lib_source
 from mtlxgen import render
 from mtlxgen.render import Renderer, create_context
-from readme_tables import readme_text, table_differences, table_rows
+from doc_tables import page_text, table_differences, table_rows
 from util import write_doc
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -132,7 +132,7 @@ def test_uniform_rig_draws_what_the_renderer_draws(furnace, furnace_rig, tmp_pat
 @pytest.fixture(scope="module")
 def furnace_figures(furnace_rig):
     """figures(name) -> {roughness: (mean, pixel min, pixel max)} of one FURNACE configuration on the sphere,
-    measured once per module: the parametrized tests and the README table share them (also under pytest -n,
+    measured once per module: the parametrized tests and the documented table share them (also under pytest -n,
     where each worker measures what it needs)."""
     inputs, done = dict(FURNACE), {}
 
@@ -298,7 +298,7 @@ RECIPROCITY_LIMIT = 1e-3
 @pytest.fixture(scope="module")
 def reciprocity_figures(bsdf_eval):
     """figures(name) -> (f(l, v), relative |f(l, v) - f(v, l)|) on the grid for one RECIPROCITY configuration,
-    evaluated once per module (shared by the parametrized test and the README figures)."""
+    evaluated once per module (shared by the parametrized test and the documented figures)."""
     done = {}
 
     def figures(name):
@@ -409,55 +409,55 @@ def test_attenuation_darkens_solid_glass_by_beer_lambert(furnace_rig):
     assert amber[0] > amber[1] > amber[2] and amber[2] < 0.5
 
 
-# README's "Enterprise PBR" furnace table: its rows, each the FURNACE configurations it sums up
-README_ROWS = [
+# docs/materials.md's "Enterprise PBR" furnace table: its rows, each the FURNACE configurations it sums up
+PAGE_ROWS = [
     ("dielectric ior 1.5 / 2.5", ["dielectric_ior1.5", "dielectric_ior2.5"]),
     ("dielectric f0 0.5 (ior 5.83)", ["dielectric_f0_0.5"]),
     ("dielectric f0 1 (ior 1e5), white metal", ["dielectric_f0_1", "metal"]),
     ("translucent 0.5, anisotropic 0.8", ["translucent_ior1.5", "anisotropic_ior1.5"]),
     ("glass thin-walled / solid", ["glass_thin_ior1.5", "glass_solid_ior1.33"]),
 ]
-README_TOL = 5e-4       # the furnace figures within 5 steps of their 4th decimal (drivers round differently)
+PAGE_TOL = 5e-4       # the furnace figures within 5 steps of their 4th decimal (drivers round differently)
 
 
 def furnace_table(furnace_figures):
     lines = ["| configuration | mean min | mean max | pixel max |", "|---|---|---|---|"]
-    for label, names in README_ROWS:
+    for label, names in PAGE_ROWS:
         figs = [f for n in names for f in furnace_figures(n).values()]
         lines.append("| %s | %.4f | %.4f | %.4f |" % (label, min(f[0] for f in figs), max(f[0] for f in figs),
                                                       max(f[2] for f in figs)))
     return "\n".join(lines)
 
 
-def test_furnace_and_reciprocity_figures_are_the_readmes(furnace_figures, reciprocity_figures, capsys):
-    """README's "Enterprise PBR" figures are what the tests measure: the furnace table (printed with -s) within
-    README_TOL, over README's roughness set and every configuration; the reciprocity sentence's pair count,
+def test_furnace_and_reciprocity_figures_are_the_documented_ones(furnace_figures, reciprocity_figures, capsys):
+    """docs/materials.md's "Enterprise PBR" figures are what the tests measure: the furnace table (printed with -s)
+    within PAGE_TOL, over the page's roughness set and every configuration; the reciprocity sentence's pair count,
     configuration count, limit, and worst figure (float noise: within a factor of 10, and under the limit)."""
-    assert sorted(n for _, names in README_ROWS for n in names) == sorted(n for n, _ in FURNACE)
+    assert sorted(n for _, names in PAGE_ROWS for n in names) == sorted(n for n, _ in FURNACE)
     table = furnace_table(furnace_figures)
     worst = max(float(reciprocity_figures(n)[1].max()) for n in RECIPROCITY)
     with capsys.disabled():
         print("\n" + table + "\nreciprocity: worst relative |f(l,v) - f(v,l)| %.1e over %d configurations"
               % (worst, len(RECIPROCITY)))
-    text = readme_text()
+    text = page_text()
     section = text[text.index("## Enterprise PBR"):]
     section = section[:section.index("\n## ", 1)]
     bad = table_differences(table_rows(table, "| configuration |"), table_rows(section, "| configuration |"),
-                            lambda col, ours, theirs: abs(ours - theirs) <= README_TOL)
+                            lambda col, ours, theirs: abs(ours - theirs) <= PAGE_TOL)
     rough = re.search(r"mean sphere radiance over roughness \{([^}]*)\}", section)
     if not rough or [float(v) for v in rough.group(1).split(",")] != ROUGHNESS:
-        bad.append("README's roughness set %s is not the tests' %s" % (rough and rough.group(1), ROUGHNESS))
+        bad.append("the page's roughness set %s is not the tests' %s" % (rough and rough.group(1), ROUGHNESS))
     rec = re.search(r"on (\d+) pairs.*?over (.*?): ([0-9.]+e-\d+) \(limit ([0-9.e-]+)\)", section, re.S)
     if not rec:
-        bad.append("README's reciprocity sentence is not found")
+        bad.append("the page's reciprocity sentence is not found")
     else:
         pairs, names, figure, limit = int(rec.group(1)), rec.group(2).split(","), float(rec.group(3)), float(rec.group(4))
         if pairs != GRID * GRID:
-            bad.append("README says %d pairs, the test evaluates %d" % (pairs, GRID * GRID))
+            bad.append("the page says %d pairs, the test evaluates %d" % (pairs, GRID * GRID))
         if len(names) != len(RECIPROCITY):
-            bad.append("README lists %d configurations, the test has %d" % (len(names), len(RECIPROCITY)))
+            bad.append("the page lists %d configurations, the test has %d" % (len(names), len(RECIPROCITY)))
         if limit != RECIPROCITY_LIMIT:
-            bad.append("README's limit %g, the test's %g" % (limit, RECIPROCITY_LIMIT))
+            bad.append("the page's limit %g, the test's %g" % (limit, RECIPROCITY_LIMIT))
         if not (worst <= RECIPROCITY_LIMIT and figure / 10 <= worst <= figure * 10):
-            bad.append("worst relative difference %.1e, README %.1e (limit %g)" % (worst, figure, limit))
-    assert not bad, "README.md's Enterprise PBR figures:\n  " + "\n  ".join(bad)
+            bad.append("worst relative difference %.1e, page %.1e (limit %g)" % (worst, figure, limit))
+    assert not bad, "docs/materials.md's Enterprise PBR figures:\n  " + "\n  ".join(bad)

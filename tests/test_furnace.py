@@ -6,7 +6,7 @@ one, several IORs. The sphere's mean radiance must
   * never exceed 1 by more than 1% (no model may create energy), and
   * stay within 1% of 1 where the model is meant to be energy preserving.
 Which models are meant to preserve energy is decided from their papers; `why` in each case says so
-and README.md ("Physics: furnace and reciprocity") carries the table this module prints:
+and docs/materials.md ("Physics: furnace and reciprocity") carries the table this module prints:
 
     python3 tests/test_furnace.py          # the markdown table
 
@@ -24,7 +24,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from mtlxgen import pipeline  # noqa: E402
 from mtlxgen.render import EYE, FOV_Y, look_at, perspective  # noqa: E402
-from tests.readme_tables import readme_table, table_differences, table_rows  # noqa: E402
+from tests.doc_tables import page_table, table_differences, table_rows  # noqa: E402
 
 SIZE = 64
 TOL = 0.01
@@ -386,9 +386,9 @@ def verdict_failures(case, rows):
     return bad
 
 
-def test_furnace_table_is_the_readmes_and_every_verdict_holds(furnace, tmp_path_factory, capsys):
+def test_furnace_table_is_the_documented_one_and_every_verdict_holds(furnace, tmp_path_factory, capsys):
     """Measures every case (reusing, through the module's Furnace, what this process measured already), prints
-    the table (pytest -s shows it) and asserts it is README.md's: the same rows, settings counts, verdicts and
+    the table (pytest -s shows it) and asserts it is docs/materials.md's: the same rows, settings counts, verdicts and
     reasons, and the means within TABLE_TOL; and that every row's verdict holds."""
     tmp = str(tmp_path_factory.mktemp("furnace_table"))
     for c in CASES:
@@ -397,10 +397,10 @@ def test_furnace_table_is_the_readmes_and_every_verdict_holds(furnace, tmp_path_
     with capsys.disabled():
         print("\n" + table)
     bad = ["%s: %s" % (c.name, b) for c in CASES for b in verdict_failures(c, furnace.results[c.name])]
-    readme = readme_table("| model | settings |")
-    bad += table_differences(table_rows(table, "| model |"), readme,
+    documented = page_table("| model | settings |")
+    bad += table_differences(table_rows(table, "| model |"), documented,
                              lambda col, ours, theirs: ours == theirs if col == 1 else abs(ours - theirs) <= TABLE_TOL)
-    assert not bad, "the furnace table (python3 tests/test_furnace.py prints it) against README.md:\n  " + \
+    assert not bad, "the furnace table (python3 tests/test_furnace.py prints it) against docs/materials.md:\n  " + \
         "\n  ".join(bad)
 
 

@@ -7,7 +7,7 @@ pixel (i, j) holds f(a_i, b_j) and f(b_j, a_i), each divided by its |N.L|. Where
 to be reciprocal, |f(l, v) - f(v, l)| <= 1e-3 max(f(l, v), f(v, l)) everywhere on the grid.
 
 Which models are meant to be reciprocal is decided from their papers (`why` of each case); the
-worst figures go in README.md's "Physics: furnace and reciprocity" table:
+worst figures go in docs/materials.md's "Physics: furnace and reciprocity" table:
 
     python3 tests/test_reciprocity.py      # the markdown table
 """
@@ -22,7 +22,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from mtlxgen import mxtypes, nodes  # noqa: E402
 from mtlxgen.emit import lib_source, read_lib_file  # noqa: E402
-from tests.readme_tables import readme_table, table_differences, table_rows  # noqa: E402
+from tests.doc_tables import page_table, table_differences, table_rows  # noqa: E402
 
 REL_TOL = 1.0e-3
 RESPONDS = 1.0e-3      # a BSDF's largest f on the grid must exceed this: f = 0 is reciprocal and proves nothing
@@ -290,7 +290,7 @@ def silent(rows):
 
 @pytest.mark.parametrize("case", [p for p in _params() if p.values[0].reciprocal])
 def test_bsdf_reciprocal_by_design_is_reciprocal_on_the_grid(evaluator, case):
-    """Models that promise reciprocity (the others are measured, and held to README's figures, by the table test)."""
+    """Models that promise reciprocity (the others are measured, and held to the page's figures, by the table test)."""
     rows = evaluator.measure(case)
     bad = silent(rows) + ["%s: relative difference %.2e (f = %.4g)" % r[:3] for r in rows if not r[1] <= REL_TOL]
     assert not bad, "%s is meant to be reciprocal (%s):\n  %s" % (case.name, case.why, "\n  ".join(bad))
@@ -309,8 +309,8 @@ def markdown_table(results):
 
 
 def same_figure(col, ours, theirs):
-    """Does a printed figure agree with README's? The settings count (column 1) exactly; a worst relative
-    difference (column 3) within 10% (README prints two digits), or, where README's is below REL_TOL, also
+    """Does a printed figure agree with the page's? The settings count (column 1) exactly; a worst relative
+    difference (column 3) within 10% (the page prints two digits), or, where the page's is below REL_TOL, also
     below REL_TOL: float noise, so which setting is worst is chance and its label is not compared (None)."""
     if col == 1:
         return ours == theirs
@@ -319,8 +319,8 @@ def same_figure(col, ours, theirs):
     return abs(ours - theirs) <= 0.1 * theirs
 
 
-def test_reciprocity_table_is_the_readmes(evaluator, capsys):
-    """Measures every case, prints the table (pytest -s shows it) and asserts it is README.md's (the same rows,
+def test_reciprocity_table_is_the_documented_one(evaluator, capsys):
+    """Measures every case, prints the table (pytest -s shows it) and asserts it is docs/materials.md's (the same rows,
     settings, verdicts and reasons, each figure as same_figure says), that every BSDF responds on the grid
     and that every model reciprocal by design is."""
     for c in CASES:
@@ -334,9 +334,9 @@ def test_reciprocity_table_is_the_readmes(evaluator, capsys):
         bad += ["%s, %s" % (c.name, b) for b in silent(rows)]
         if c.reciprocal:
             bad += ["%s, %s: %.2e, reciprocal by design" % (c.name, r[0], r[1]) for r in rows if not r[1] <= REL_TOL]
-    bad += table_differences(table_rows(table, "| BSDF |"), readme_table("| BSDF | settings |"), same_figure)
-    assert not bad, "the reciprocity table (python3 tests/test_reciprocity.py prints it) against README.md:\n  " + \
-        "\n  ".join(bad)
+    bad += table_differences(table_rows(table, "| BSDF |"), page_table("| BSDF | settings |"), same_figure)
+    assert not bad, ("the reciprocity table (python3 tests/test_reciprocity.py prints it) against docs/materials.md:"
+                     "\n  " + "\n  ".join(bad))
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
-"""README.md's measured tables, read back so the tests that print a table can assert it is the README's.
+"""The measured tables of the documentation (docs/materials.md), read back so the tests that print a table can
+assert it is the page's.
 
 A table is found by its header row; rows come back as lists of cell texts (the separator row dropped).
 Numbers are compared within a tolerance the caller states; every other text must be equal.
@@ -6,12 +7,13 @@ Numbers are compared within a tolerance the caller states; every other text must
 import os
 import re
 
-README = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "README.md")
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PAGE = os.path.join(ROOT, "docs", "materials.md")     # the furnace, reciprocity and Enterprise PBR tables
 _NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)(.*)$", re.S)
 
 
-def readme_text():
-    with open(README, encoding="utf-8") as f:
+def page_text(page=PAGE):
+    with open(page, encoding="utf-8") as f:
         return f.read()
 
 
@@ -35,11 +37,12 @@ def table_rows(markdown, header_start):
                 if not re.fullmatch(r"\|(\s*:?-+:?\s*\|)+", row.strip()):
                     rows.append(cells(row))
             return rows
-    raise AssertionError("README.md has no table whose header starts with %r" % header_start)
+    raise AssertionError("no table whose header starts with %r" % header_start)
 
 
-def readme_table(header_start):
-    return table_rows(readme_text(), header_start)
+def page_table(header_start, page=PAGE):
+    """Rows of the first table of the page (docs/materials.md) whose header row starts with `header_start`."""
+    return table_rows(page_text(page), header_start)
 
 
 def number(cell):
@@ -48,23 +51,23 @@ def number(cell):
     return (float(m.group(1)), m.group(2)) if m else (None, cell)
 
 
-def table_differences(printed, readme, close):
+def table_differences(printed, documented, close):
     """Lines saying where two tables (lists of cell lists, header first) differ. Cells that start with a
-    number are equal when close(column, printed number, README number) holds and their texts after
+    number are equal when close(column, printed number, the page's number) holds and their texts after
     the number are equal (`close` may return None to skip that text comparison); others must be equal."""
     out = []
-    if printed[0] != readme[0]:
-        out.append("header: printed %s, README %s" % (printed[0], readme[0]))
-    names_p, names_r = [r[0] for r in printed[1:]], [r[0] for r in readme[1:]]
+    if printed[0] != documented[0]:
+        out.append("header: printed %s, page %s" % (printed[0], documented[0]))
+    names_p, names_r = [r[0] for r in printed[1:]], [r[0] for r in documented[1:]]
     if names_p != names_r:
-        out.append("rows: printed %s, README %s" % (names_p, names_r))
-    by_name = {r[0]: r for r in readme[1:]}
+        out.append("rows: printed %s, page %s" % (names_p, names_r))
+    by_name = {r[0]: r for r in documented[1:]}
     for row in printed[1:]:
         theirs = by_name.get(row[0])
         if theirs is None:
             continue
         if len(theirs) != len(row):
-            out.append("%s: %d cells printed, %d in the README" % (row[0], len(row), len(theirs)))
+            out.append("%s: %d cells printed, %d on the page" % (row[0], len(row), len(theirs)))
             continue
         for col, (a, b) in enumerate(zip(row, theirs)):
             (na, ra), (nb, rb) = number(a), number(b)
@@ -73,7 +76,7 @@ def table_differences(printed, readme, close):
                 if ok is None:
                     continue
                 if not ok or ra != rb:
-                    out.append("%s, column '%s': printed %s, README %s" % (row[0], printed[0][col], a, b))
+                    out.append("%s, column '%s': printed %s, page %s" % (row[0], printed[0][col], a, b))
             elif a != b:
-                out.append("%s, column '%s': printed %r, README %r" % (row[0], printed[0][col], a, b))
+                out.append("%s, column '%s': printed %r, page %r" % (row[0], printed[0][col], a, b))
     return out
