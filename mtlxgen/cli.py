@@ -9,7 +9,6 @@ import math
 import os
 import sys
 
-from . import is_usd
 from .diagnostics import Loc, MtlxError, Warnings
 from .interface import LIGHTS_LIMIT
 from .targets import NAMES as TARGET_NAMES
@@ -147,14 +146,8 @@ def _variant(text):
 
 def _usd_options(args):
     """usdstage.StageOptions from --variant / --render-context; an error where they are given for a .mtlx."""
-    variants, context = tuple(getattr(args, "variant", None) or ()), getattr(args, "render_context", None)
-    if not is_usd(args.file):
-        if variants or context:
-            raise MtlxError((Loc(args.file, 0), "%s applies to USD stages (.usd, .usda, .usdc, .usdz) only"
-                             % ("--variant" if variants else "--render-context")))
-        return None
-    from .usdstage import StageOptions
-    return StageOptions(variants=variants, render_context=context or "mtlx")
+    from .api import stage_options
+    return stage_options(args.file, getattr(args, "variant", None) or (), getattr(args, "render_context", None))
 
 
 def _check_document(path):
@@ -170,14 +163,17 @@ def _check_document(path):
 def _generate(args, rig=(), unreadable_textures="error"):
     """(shaders that worked, MtlxError or None) for generate and render; warnings printed either way. rig: the
     lights render binds (its shaders take as many, unless --max-lights says). unreadable_textures: "error" for
-    the commands that draw, "warning" for generate (pipeline.generate)."""
-    from . import pipeline
+    the commands that draw, "warning" for generate. The public API's generation (api.generate_partial)."""
+    from . import api
     warnings = Warnings()
     try:
-        return pipeline.generate(args.file, [args.element] if args.element else None, args.library, partial=True,
-                                 usd_seed_rules=args.usd_seed_rules, environment=args.environment,
-                                 usd_options=_usd_options(args), strict=args.strict, warnings=warnings,
-                                 unreadable_textures=unreadable_textures, **_session_options(args, rig))
+        options = api.Options(library_dirs=tuple(args.library), environment=args.environment, strict=args.strict,
+                              usd_seed_rules=args.usd_seed_rules, variants=tuple(getattr(args, "variant", None) or ()),
+                              render_context=getattr(args, "render_context", None))
+        session = _session_options(args, rig)
+        return api.generate_partial(args.file, [args.element] if args.element else None, target=session["target"],
+                                    interface=session["interface"], options=options, warnings=warnings,
+                                    max_lights=session["max_lights"], unreadable_textures=unreadable_textures)
     finally:
         _print_warnings(warnings.lines())
 
@@ -205,9 +201,11 @@ def _interface(args):
 def cmd_generate(args):
     shaders, error = _generate(args, unreadable_textures="warning")
     for s in shaders:
-        paths = s.write(args.output)
+        paths = s.write(args.output, absolute_paths=args.absolute_paths)
         if args.verbose:
             print("\n".join(paths))
+        elif not args.quiet:        # one line an element: DIR/STEM.{vert,frag,json}
+            print("wrote %s.{vert,frag,json}" % os.path.join(args.output, s.stem))
     if error is not None:
         raise error
     return 0
@@ -528,6 +526,7 @@ def build_parser(command=None):
     if command not in COMMANDS:         # --help, or no such command: every command (listed, or offered)
         command = None
     ap = _Parser(prog="mtlxgen", description="MaterialX documents to GLSL shaders")
+    ap.add_argument("--version", action=_Version, nargs=0, help="print mtlxgen's version and exit")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
     def shader_interface(p, default="complete"):
@@ -587,7 +586,13 @@ def build_parser(command=None):
         common(p)
         generation(p)
         output_dir_and_element(p)
-        p.add_argument("-v", "--verbose", action="store_true", help="print the paths written")
+        talk = p.add_mutually_exclusive_group()
+        talk.add_argument("-v", "--verbose", action="store_true", help="print each path written")
+        talk.add_argument("-q", "--quiet", action="store_true",
+                          help="print nothing but problems (default: one `wrote DIR/NAME.{vert,frag,json}` line an "
+                               "element)")
+        p.add_argument("--absolute-paths", action="store_true",
+                       help="texture files in NAME.json as absolute paths (default: relative to NAME.json's folder)")
         p.set_defaults(func=cmd_generate)
 
     if command in (None, "render"):
@@ -765,6 +770,27 @@ def build_parser(command=None):
     return ap
 
 
+# the modules mtlxgen imports from other distributions, and the package pip installs each from
+PIP_PACKAGES = {"moderngl": "moderngl", "numpy": "numpy", "OpenImageIO": "OpenImageIO", "MaterialX": "materialx",
+                "pxr": "usd-core", "flip_evaluator": "flip-evaluator", "glfw": "glfw", "imgui_bundle": "imgui-bundle",
+                "watchdog": "watchdog", "trimesh": "trimesh"}
+
+
+def _missing_package(error):
+    """The pip package of a module an ImportError could not import (None: not one of our dependencies)."""
+    name = (getattr(error, "name", None) or "").split(".")[0]
+    return PIP_PACKAGES.get(name)
+
+
+class _Version(argparse.Action):
+    """--version: the installed distribution's version (looked up only when asked: importlib.metadata is slow)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        import mtlxgen
+        print("mtlxgen %s" % mtlxgen.__version__)
+        parser.exit(0)
+
+
 def main(argv=None):
     try:
         argv = sys.argv[1:] if argv is None else argv
@@ -785,6 +811,17 @@ def main(argv=None):
         except OSError:
             pass
         return 0
+    except ImportError as e:            # a dependency that is not installed: which package to install, one line
+        package = _missing_package(e)
+        if package is None:
+            if os.environ.get("MTLXGEN_DEBUG"):
+                raise
+            print("%s: internal error: %s: %s (set MTLXGEN_DEBUG=1 for details)"
+                  % (getattr(args, "file", "mtlxgen"), type(e).__name__, e), file=sys.stderr)
+            return 3
+        print("mtlxgen %s: error: the Python package %s is not installed (pip install %s)"
+              % (getattr(args, "command", ""), package, package), file=sys.stderr)
+        return 1
     except RecursionError:
         print("%s: error: the document nests too deeply to process" % getattr(args, "file", "mtlxgen"), file=sys.stderr)
         return 1

@@ -67,6 +67,9 @@ class Session:
         if strict and self.doc_warnings:
             raise strict_error(self.doc_warnings)
         self.warnings.extend(self.doc_warnings)
+        if library._materialx_library_root() is None:       # MaterialX's nodedefs come with its wheel
+            raise ModuleNotFoundError("No module named 'MaterialX' (pip install materialx): its data libraries "
+                                      "define the standard nodes", name="MaterialX")
         self.library = library.load_library(library_dirs).overlay(self.doc)   # once per document
         self.stage = getattr(self.doc, "usd", None)     # usdstage.StageInfo for a USD stage
         if self.stage is not None and elements:          # elements named by prim path too
