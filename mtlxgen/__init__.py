@@ -20,6 +20,7 @@ The public API (api.py; __all__ below): generate, render, Session, Shader, Docum
 Options; environment (environment.py) prepares u_envRadiance and u_envIrradiance for any GL host.
 docs/interface.md describes the shaders' application interface and the manifest.
 """
+import sys
 
 __all__ = ["generate", "render", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
            "Problem", "environment", "is_usd", "__version__"]
@@ -37,14 +38,32 @@ def __getattr__(name):
         from . import api
         value = getattr(api, name)
     elif name in ("environment", "render"):
-        import importlib
-        value = importlib.import_module("." + name, __name__)
+        # `from . import render` would ask this function again; importing a name from the module imports it, and
+        # the import system sets it here
+        if name == "render":
+            from .render import Renderer  # noqa: F401
+        else:
+            from .environment import prepare  # noqa: F401
+        value = sys.modules[__name__ + "." + name]
     elif name == "__version__":
         value = _version()
     else:
         raise AttributeError("module 'mtlxgen' has no attribute %r" % name)
     globals()[name] = value
     return value
+
+
+class _CallableModule(type(sys)):
+    """The class of the module mtlxgen.render: calling it is calling api.render (render.py sets it)."""
+
+    def __call__(self, *args, **kwargs):
+        from .api import render
+        return render(*args, **kwargs)
+
+    @property
+    def __wrapped__(self):          # help() and inspect.signature show api.render's
+        from .api import render
+        return render
 
 
 def __dir__():

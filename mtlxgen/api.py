@@ -23,8 +23,8 @@ import os
 import shutil
 import tempfile
 import warnings as _warnings
-from dataclasses import dataclass, field, fields
-from typing import Any, Iterable, NamedTuple, Optional, Sequence, Union
+from dataclasses import dataclass, fields
+from typing import Iterable, NamedTuple, Optional, Sequence, Union
 
 from . import is_usd
 from .diagnostics import Loc, MtlxError, Warnings

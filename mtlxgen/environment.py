@@ -30,6 +30,30 @@ def mip_count(width, height):
     return int(np.floor(np.log2(max(int(width), int(height))))) + 1
 
 
+def builtin_sky(width=512, height=256):
+    """Deterministic HDR lat-long sky (row 0 = top): horizon-to-zenith blue, warm ground, a sun disc."""
+    v = (np.arange(height) + 0.5) / height
+    u = (np.arange(width) + 0.5) / width
+    uu, vv = np.meshgrid(u, v)
+    elevation = (0.5 - vv) * np.pi
+    azimuth = (uu - 0.5) * 2.0 * np.pi
+    # direction per the lat-long convention of interface.md: u = atan(x, -z) / 2pi + 0.5, v = -asin(y)/pi + 0.5
+    d = np.stack([np.cos(elevation) * np.sin(azimuth), np.sin(elevation), -np.cos(elevation) * np.cos(azimuth)], -1)
+    up = np.clip(d[..., 1:2], 0.0, 1.0)
+    zenith, horizon = np.array([0.18, 0.32, 0.85]), np.array([0.75, 0.82, 0.95])
+    sky = horizon + (zenith - horizon) * np.sqrt(up)
+    ground = np.array([0.22, 0.18, 0.14]) * (1.0 - 0.5 * np.clip(-d[..., 1:2], 0.0, 1.0))
+    img = np.where(d[..., 1:2] >= 0.0, sky, ground)
+    # in the map's own frame; u_envMatrix's default (x and z negated) puts it at world (0.45, 0.55, 0.70),
+    # above and to the right of the default camera
+    sun_dir = np.array([-0.45, 0.55, -0.70])
+    sun_dir /= np.linalg.norm(sun_dir)
+    cos_sun = (d * sun_dir).sum(-1, keepdims=True)
+    disc = np.clip((cos_sun - np.cos(np.radians(6.0))) / (1.0 - np.cos(np.radians(6.0))), 0.0, 1.0)
+    img = img + 20.0 * disc ** 1.5 * np.array([1.0, 0.93, 0.82])
+    return img.astype(np.float32)
+
+
 def _downsample(img, width, height):
     """One level down: each texel bilinearly sampled at its centre's place in the level above, clamped at the
     edges (what Mesa's mipmap generation does; for even sizes it is the 2x2 box)."""
@@ -147,7 +171,6 @@ def prepare(source=None, samples=ENV_SAMPLES, intensity=1.0, irradiance_size=IRR
     intensity: u_envLightIntensity. mips=False leaves the chain to the host (radiance holds level 0 alone; the
     uniforms still name the full chain's count, which glGenerateMipmap makes)."""
     if source is None:
-        from .render import builtin_sky
         env = builtin_sky()
     elif isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):
         env = load_environment(source)

@@ -23,7 +23,7 @@ from .diagnostics import Loc, MtlxError
 # the environment recipe (mip chain, SH irradiance, the lat-long frame ENV_MATRIX, the sample count) is environment.py's,
 # shared with view, web, three and any host; these names stay here for render's callers
 from .environment import (ENV_MATRIX, ENV_SAMPLES, SH_BAND_ROWS, _latlong_directions, _sh9,  # noqa: F401
-                          irradiance_map, load_environment, mip_count, sh9_projection)
+                          builtin_sky, irradiance_map, load_environment, mip_count, sh9_projection)
 from .files import check_regular
 from .glcontext import create_context  # noqa: F401  (render.create_context for callers)
 from .images import read_image, write_image  # noqa: F401  (re-exported for the CLI)
@@ -95,30 +95,6 @@ class Camera:
 
 
 DEFAULT_CAMERA = Camera()
-
-
-def builtin_sky(width=512, height=256):
-    """Deterministic HDR lat-long sky (row 0 = top): horizon-to-zenith blue, warm ground, a sun disc."""
-    v = (np.arange(height) + 0.5) / height
-    u = (np.arange(width) + 0.5) / width
-    uu, vv = np.meshgrid(u, v)
-    elevation = (0.5 - vv) * np.pi
-    azimuth = (uu - 0.5) * 2.0 * np.pi
-    # direction per the lat-long convention of interface.md: u = atan(x, -z) / 2pi + 0.5, v = -asin(y)/pi + 0.5
-    d = np.stack([np.cos(elevation) * np.sin(azimuth), np.sin(elevation), -np.cos(elevation) * np.cos(azimuth)], -1)
-    up = np.clip(d[..., 1:2], 0.0, 1.0)
-    zenith, horizon = np.array([0.18, 0.32, 0.85]), np.array([0.75, 0.82, 0.95])
-    sky = horizon + (zenith - horizon) * np.sqrt(up)
-    ground = np.array([0.22, 0.18, 0.14]) * (1.0 - 0.5 * np.clip(-d[..., 1:2], 0.0, 1.0))
-    img = np.where(d[..., 1:2] >= 0.0, sky, ground)
-    # in the map's own frame; u_envMatrix's default (x and z negated) puts it at world (0.45, 0.55, 0.70),
-    # above and to the right of the default camera
-    sun_dir = np.array([-0.45, 0.55, -0.70])
-    sun_dir /= np.linalg.norm(sun_dir)
-    cos_sun = (d * sun_dir).sum(-1, keepdims=True)
-    disc = np.clip((cos_sun - np.cos(np.radians(6.0))) / (1.0 - np.cos(np.radians(6.0))), 0.0, 1.0)
-    img = img + 20.0 * disc ** 1.5 * np.array([1.0, 0.93, 0.82])
-    return img.astype(np.float32)
 
 
 def scoreboard_sky(width=512, height=256):
@@ -590,12 +566,6 @@ class Renderer:
         prepared.vao.render()
 
 
-class _Module(type(sys.modules[__name__])):
-    """This module, callable: mtlxgen.render(shader_or_source, ...) is the public API's render (api.render)."""
-
-    def __call__(self, *args, **kwargs):
-        from .api import render
-        return render(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _Module
+# mtlxgen.render(shader_or_source, ...): this module, callable as the public API's render (mtlxgen/__init__.py)
+from . import _CallableModule  # noqa: E402
+sys.modules[__name__].__class__ = _CallableModule
