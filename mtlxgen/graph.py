@@ -119,7 +119,8 @@ class GraphBuilder:
         # none matches: the scan below finds none either, and says why
         candidates = lib.by_category.get(node.category)
         if not candidates:
-            raise MtlxError((node.loc, "unknown node category '%s' (node '%s')" % (node.category, node.name)))
+            raise MtlxError((node.loc, "unknown node category '%s' (node '%s')%s"
+                             % (node.category, node.name, did_you_mean(node.category, lib.by_category))))
         matches = []
         for nd in candidates:
             if node.version:
@@ -143,8 +144,37 @@ class GraphBuilder:
         if not any(self._type_matches(node, nd) for nd in candidates):
             raise MtlxError((node.loc, "node '%s': no '%s' nodedef outputs type %s (types: %s)"
                              % (node.name, node.category, node.type, ", ".join(types))))
+        typed = [nd for nd in candidates if self._type_matches(node, nd)]
+        at_inputs = self._input_problems(node, typed)
+        if at_inputs:
+            raise MtlxError(at_inputs)
         raise MtlxError((node.loc, "node '%s': no '%s' nodedef of type %s takes inputs (%s)"
                          % (node.name, node.category, node.type, sig)))
+
+    @staticmethod
+    def _input_problems(node, nodedefs):
+        """Where no nodedef of a node's category and type takes its inputs: each input that none of them takes
+        by that name (with the closest names they have), else each input whose type the nodedef that matches
+        the most inputs expects otherwise, at the input's own line, naming it, its type and the types expected."""
+        problems = []
+        names = {n for nd in nodedefs for n in nd.inputs}
+        for i in node.inputs.values():
+            if i.name not in names:
+                problems.append((i.loc, "node '%s' (%s, type %s) has no input '%s'%s"
+                                 % (node.name, node.category, node.type, i.name, did_you_mean(i.name, names))))
+        if problems:
+            return problems
+        best = max(nodedefs, key=lambda nd: sum(i.name in nd.inputs and nd.inputs[i.name].type == i.type
+                                                for i in node.inputs.values()))
+        for i in node.inputs.values():
+            want = best.inputs[i.name].type if i.name in best.inputs else None
+            if want is not None and want != i.type:
+                others = sorted({nd.inputs[i.name].type for nd in nodedefs if i.name in nd.inputs} - {want})
+                problems.append((i.loc, "input '%s' of node '%s' has type %s; %s expects %s%s"
+                                 % (i.name, node.name, i.type, best.name, want,
+                                    " (other %s nodedefs of type %s: %s)" % (node.category, node.type, ", ".join(others))
+                                    if others else "")))
+        return problems
 
     @staticmethod
     def _type_matches(node, nd):
@@ -169,10 +199,11 @@ class GraphBuilder:
             self.foreign = True
             g = self.doc.nodegraphs.get(port.nodegraph) or self.lib.nodegraphs.get(port.nodegraph)
             if g is None:
-                return self.dangling(port, "input '%s' connects to nodegraph '%s', which does not exist"
-                                     % (port.name, port.nodegraph))
+                return self.dangling(port, "input '%s' connects to nodegraph '%s', which does not exist%s"
+                                     % (port.name, port.nodegraph, did_you_mean(port.nodegraph, self.doc.nodegraphs)))
             if port.output and port.output not in g.outputs:
-                return self.dangling(port, "nodegraph '%s' has no output '%s'" % (g.name, port.output))
+                return self.dangling(port, "nodegraph '%s' has no output '%s'%s"
+                                     % (g.name, port.output, did_you_mean(port.output, g.outputs)))
             if not g.outputs:
                 return self.dangling(port, "nodegraph '%s' has no outputs" % g.name)
             out_name = port.output or next(iter(g.outputs))
@@ -186,9 +217,10 @@ class GraphBuilder:
         if port.nodename:
             node = scope.nodes.get(port.nodename)
             if node is None:
-                return self.dangling(port, "'%s' connects to node '%s', which does not exist%s"
+                return self.dangling(port, "'%s' connects to node '%s', which does not exist%s%s"
                                      % (port.name, port.nodename,
-                                        " in nodegraph '%s'" % scope.graph.name if scope.graph else ""))
+                                        " in nodegraph '%s'" % scope.graph.name if scope.graph else "",
+                                        did_you_mean(port.nodename, scope.nodes)))
             outs = self.instantiate(node, scope)
             if port.output:
                 name = port.output
@@ -484,7 +516,8 @@ class GraphBuilder:
         for name, port in node.inputs.items():
             if name not in nd.inputs:
                 problem = (renamed_input_message(node.category, name) or
-                           "node '%s' (%s) has no input '%s'" % (node.name, nd.name, name))
+                           "node '%s' (%s) has no input '%s'%s" % (node.name, nd.name, name,
+                                                                   did_you_mean(name, nd.inputs)))
                 if not named:
                     raise MtlxError((port.loc, problem))
                 self.warn(port.loc, "%s: ignored, as MaterialX ignores an input the nodedef a node names lacks" % problem)
@@ -702,7 +735,7 @@ class GraphBuilder:
             gname, oname = element.split("/", 1)
             g = doc.nodegraphs.get(gname)
             if g is None or oname not in g.outputs:
-                raise MtlxError((Loc(doc.path, 0), "no element '%s' in the document" % element))
+                raise MtlxError((Loc(doc.path, 0), no_element_message(doc, element)))
             self.direct_graph = gname
             out_port = g.outputs[oname]
             src = self.graph_output(g, out_port)
@@ -721,7 +754,7 @@ class GraphBuilder:
             return "output", src
         node = doc.nodes.get(element)
         if node is None:
-            raise MtlxError((Loc(doc.path, 0), "no element '%s' in the document" % element))
+            raise MtlxError((Loc(doc.path, 0), no_element_message(doc, element)))
         outs = self.instantiate(node, self.doc_scope)
         src = outs.get("out") or next(iter(outs.values()))
         if node.type == "material":
@@ -899,3 +932,28 @@ def renderable_elements(doc):
 def _drawn_output(port, nodes):
     node = nodes.get(port.nodename) if port.nodename else None
     return node is not None and node.type not in UNRENDERABLE_NODE_TYPES
+
+
+def did_you_mean(name, names):
+    """ "; did you mean 'X'?" naming the closest of `names` to `name` (up to three), or "" where none is close."""
+    import difflib
+    close = difflib.get_close_matches(name, [n for n in names if n], n=3, cutoff=0.6)
+    if not close:
+        lowered = {n.lower(): n for n in names if n}
+        close = [lowered[name.lower()]] if name.lower() in lowered else []
+    return "; did you mean %s?" % " or ".join("'%s'" % c for c in close) if close else ""
+
+
+MAX_LISTED = 20
+
+
+def no_element_message(doc, element):
+    """Why --element ELEMENT names nothing: the closest names, then the elements the document renders (the first
+    MAX_LISTED of them, then how many more)."""
+    names = renderable_elements(doc)
+    every = list(names) + [n for n in doc.nodes] + ["%s/%s" % (g.name, o) for g in doc.nodegraphs.values()
+                                                   for o in g.outputs] + list(doc.outputs)
+    listed = ", ".join(names[:MAX_LISTED]) + (" and %d more" % (len(names) - MAX_LISTED) if len(names) > MAX_LISTED
+                                              else "")
+    return "no element '%s' in the document%s (renderable elements: %s)" % (
+        element, did_you_mean(element, every), listed or "none")

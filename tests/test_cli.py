@@ -74,14 +74,14 @@ def test_unknown_node_category(tmp_path):
 def test_connection_of_the_wrong_type(tmp_path):
     path = write_doc(tmp_path, """
   <nodegraph name="g">
-    <constant name="c" type="vector3" />
-    <sin name="s" type="float">
-      <input name="in" type="float" nodename="c" />
+    <constant name="c" type="float" />
+    <sin name="s" type="vector3">
+      <input name="in" type="vector3" nodename="c" />
     </sin>
-    <output name="out" type="float" nodename="s" />
+    <output name="out" type="vector3" nodename="s" />
   </nodegraph>""")
     assert_one_line_error(run_cli("generate", path, "-o", str(tmp_path / "o")),
-                          r"doc\.mtlx:7: input 'in' of node 's' has type float but is connected to a value of type vector3")
+                          r"doc\.mtlx:7: input 'in' of node 's' has type vector3 but is connected to a value of type float")
 
 
 def test_cycle(tmp_path):

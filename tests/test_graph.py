@@ -106,15 +106,15 @@ def test_unused_nodes_are_pruned(tmp_path, library):
         <output name="o" type="float" nodename="a" />""", r"doc\.mtlx:\d+: cycle: '(a|b)' -> '(a|b)' -> '(a|b)'"),
     ("""<frobnicate name="f" type="float" /><output name="o" type="float" nodename="f" />""",
      r"doc\.mtlx:3: unknown node category 'frobnicate'"),
-    ("""<constant name="c" type="color3"><input name="value" type="color3" value="1,0,0" /></constant>
-        <sin name="s" type="float"><input name="in" type="float" nodename="c" /></sin>
-        <output name="o" type="float" nodename="s" />""",
-     r"doc\.mtlx:4: input 'in' of node 's' has type float but is connected to a value of type color3"),
+    ("""<constant name="c" type="float"><input name="value" type="float" value="1" /></constant>
+        <sin name="s" type="vector3"><input name="in" type="vector3" nodename="c" /></sin>
+        <output name="o" type="vector3" nodename="s" />""",
+     r"doc\.mtlx:4: input 'in' of node 's' has type vector3 but is connected to a value of type float"),
     ("""<sin name="s" type="color3" /><output name="o" type="color3" nodename="s" />""",
      r"doc\.mtlx:3: node 's': no 'sin' nodedef outputs type color3"),
     ("""<sin name="s" type="float"><input name="bogus" type="float" value="1" /></sin>
         <output name="o" type="float" nodename="s" />""",
-     r"doc\.mtlx:3: node 's': no 'sin' nodedef of type float takes inputs \(bogus: float\)"),
+     r"doc\.mtlx:3: node 's' \(sin, type float\) has no input 'bogus'"),
 ])
 def test_graph_errors_name_file_and_line(tmp_path, library, body, message):
     with pytest.raises(MtlxError) as e:

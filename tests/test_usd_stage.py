@@ -585,7 +585,7 @@ def Scope "L" {
     token outputs:surface.connect = </L/Undeclared/S.outputs:surface>
     def Shader "S" {
       uniform token info:id = "UsdPreviewSurface"
-      color3f inputs:diffuseColor.connect = </L/Undeclared/T.outputs:rgb>
+      color3f inputs:diffuseColor.connect = </L/Undeclared/T.outputs:rgbx>
       token outputs:surface
     }
     def Shader "T" {

@@ -237,14 +237,16 @@ def test_document_warnings_are_warned_with_its_problems_and_strict_fails_the_doc
 # ---------------------------------------------------------------- what MaterialX refuses stays an error
 
 @pytest.mark.parametrize("body,fragment,message", [
-    # an input the nodedef lacks, where the node does not name its nodedef: MaterialX finds no nodedef
+    # an input the nodedef lacks, where the node does not name its nodedef: MaterialX finds no nodedef (issue 26:
+    # reported at the input's own line, naming it; a wrong type names the type expected)
     ("""<constant name="c" type="float"><input name="value" type="float" value="0.5" />
           <input name="bogus" type="float" value="1" /></constant>
-        <output name="o" type="float" nodename="c" />""", "<constant", "no 'constant' nodedef of type float takes"),
+        <output name="o" type="float" nodename="c" />""", 'name="bogus"', "node 'c' (constant, type float) has no input 'bogus'"),
     # an input declared with another type than its nodedef's, without nodedef=: the same
     ("""<multiply name="m" type="color3"><input name="in1" type="vector3" value="0.2,0.3,0.4" />
           <input name="in2" type="color3" value="2,2,2" /></multiply>
-        <output name="o" type="color3" nodename="m" />""", "<multiply", "no 'multiply' nodedef of type color3"),
+        <output name="o" type="color3" nodename="m" />""", 'name="in1"', "input 'in1' of node 'm' has type vector3; "
+                                                                          "ND_multiply_color3 expects color3"),
     # connections between types of different GLSL spelling: MaterialX's GLSL does not compile
     ("""<position name="p" type="vector3" /><multiply name="m" type="color4">
           <input name="in1" type="color4" nodename="p" /><input name="in2" type="color4" value="1,1,1,1" /></multiply>
