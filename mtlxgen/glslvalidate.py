@@ -2,7 +2,7 @@
 (Mesa accepts GLSL that other drivers reject): glslangValidator for glsl and essl, and for vulkan SPIR-V
 (`glslangValidator -V`) checked by spirv-val, the two stages linked, and glslang's reflection of the block
 compared with the manifest's offsets, array strides and sampler bindings. Used by the tests and by
-tools/target_table.py (the README's table)."""
+tools/target_table.py (the table in docs/commands.md)."""
 import os
 import re
 import shutil

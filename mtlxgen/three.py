@@ -9,7 +9,7 @@ element on render's sphere in render's scene (an import map points `three` at OU
 the npm package's files); OUT/environment.exr is the environment it lights with (the built-in sky, or --env).
 
 Texture files are never copied. Each file the manifest resolves (wherever the document points: textures are
-decoded, not copied, as the README's rule for untrusted documents says) is decoded through images.read_image
+decoded, not copied, as docs/documents.md says of untrusted documents) is decoded through images.read_image
 and its pixels written afresh under OUT/textures/ so a page can load them (encode_texture): a PNG for 8-bit
 sources of up to four channels, else a 32-bit float OpenEXR. No byte of the source file (metadata chunks,
 trailing data, the encoding itself) reaches the output; a file that is missing draws its default colour,

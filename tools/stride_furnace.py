@@ -1,4 +1,4 @@
-"""White-furnace figures of the Stride material (README "Stride material"): every visibility x NDF over
+"""White-furnace figures of the Stride material (docs/materials.md, "Stride material"): every visibility x NDF over
 gloss {0, 0.25, 0.5, 0.75, 1}, for white metal (metalness 1) and a white dielectric in the specular
 workflow (specular 0.04, energy conservation), under a uniform white environment; prints a Markdown
 table of the lowest and highest mean sphere radiance per visibility term.

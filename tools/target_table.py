@@ -1,6 +1,6 @@
-"""The README's table of targets: for each group of documents, how many elements generate and how many of
-them compile with Khronos' reference compiler in each target (glsl, essl: glslangValidator; vulkan: SPIR-V
-that spirv-val accepts, with the block offsets glslang reflects).
+"""The table of targets in docs/commands.md ("Shader targets"): for each group of documents, how many elements
+generate and how many of them compile with Khronos' reference compiler in each target (glsl, essl:
+glslangValidator; vulkan: SPIR-V that spirv-val accepts, with the block offsets glslang reflects).
 
     python tools/target_table.py [--corpus] [--out FILE]
 
