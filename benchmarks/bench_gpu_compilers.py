@@ -5,6 +5,7 @@ nothing: the drivers come from `bash ../shared/tools/gpu_proxy/setup.sh` (once, 
 GPUPROXY_PREFIX names another place), and this script says so when they are missing.
 
 usage: bench_gpu_compilers.py [FILE.mtlx ...] [--backends radv-aco,nouveau] [--only TEXT] [-n N] [--modes ...]
+                              [--baseline CHECKOUT]
 
 Default files: bench_shaders.py's eight elements plus MaterialX's OpenPbr Examples (../shared/corpus). For each
 element, interface (complete against complete, reduced against reduced: MaterialX's SHADER_INTERFACE_REDUCED) and
@@ -21,6 +22,10 @@ Backends (measure.py's): radv-aco (AMD RDNA2, Vulkan), nouveau (NVIDIA ISA, NV19
 radeonsi-aco, radeonsi-llvm, nouveau-kepler, llvmpipe. The last line holds the ratios of the totals over all
 elements, per backend and interface. Shaders are generated as the scoreboard does (colour management on both
 sides; ours with its defaults: FIS environment, no light loop). Timings only: nothing asserts.
+
+--baseline CHECKOUT: a change's before and after in one run: the other side is not MaterialX's but ours as another
+copy of the project generates it (a folder holding mtlxgen/ and glsl_lib/, e.g. `git archive HEAD mtlxgen glsl_lib`
+unpacked, or a `git worktree`); the columns then read ours / the baseline's.
 """
 import argparse
 import importlib.util
@@ -95,6 +100,24 @@ def write_theirs(ref, path, element, mode, target, stem):
     _write(stem, shader.getSourceCode(mx_gen.VERTEX_STAGE), shader.getSourceCode(mx_gen.PIXEL_STAGE))
 
 
+_BASELINE = """
+import sys
+sys.path.insert(0, sys.argv[1])
+from mtlxgen import pipeline
+s = pipeline.generate(sys.argv[2], [sys.argv[3]], interface=sys.argv[4], target=sys.argv[5])[0]
+open(sys.argv[6] + ".vert", "w").write(s.vertex)
+open(sys.argv[6] + ".frag", "w").write(s.fragment)
+"""
+
+
+def write_baseline(checkout, path, element, mode, target, stem):
+    """Ours as the project copy in `checkout` generates it (its own mtlxgen and glsl_lib, in a fresh process)."""
+    p = subprocess.run([sys.executable, "-c", _BASELINE, checkout, path, element, mode, target, stem],
+                       capture_output=True, text=True, cwd=checkout)
+    if p.returncode:
+        raise RuntimeError("baseline %s: %s" % (checkout, (p.stdout + p.stderr).strip().splitlines()[-1]))
+
+
 def _write(stem, vertex, fragment):
     with open(stem + ".vert", "w") as f:
         f.write(vertex)
@@ -164,7 +187,13 @@ def main():
     ap.add_argument("-n", type=int, default=1, help="compiles per shader and backend (median; default 1)")
     ap.add_argument("--modes", default="complete,reduced")
     ap.add_argument("--keep", help="write the shaders into this folder (default: a temporary one)")
+    ap.add_argument("--baseline", metavar="CHECKOUT", help="compare with ours from this copy of the project instead "
+                    "of MaterialX's (a change's before and after in one run)")
     args = ap.parse_args()
+    if args.baseline and not os.path.isdir(os.path.join(args.baseline, "mtlxgen")):
+        print("bench_gpu_compilers: --baseline %s: no mtlxgen/ there (a copy of the project is needed)" % args.baseline)
+        return 1
+    other = "base" if args.baseline else "MX"
 
     why = missing_tools()
     if why:
@@ -192,7 +221,7 @@ def main():
         PREFIX, ",".join(backends), args.n, "s" if args.n > 1 else "", *os.getloadavg()))
     head = "%-40s %-12s %-8s" % ("element", "backend", "mode")
     for c in COLUMNS:
-        head += " %18s" % ("%s ours/MX=ratio" % c if c == "cpu" else c)
+        head += " %18s" % ("%s ours/%s=ratio" % (c, other) if c == "cpu" else c)
     print(head)
     totals = {}          # (backend, mode) -> {column: [ours, theirs]}
     count = 0
@@ -213,6 +242,8 @@ def main():
                                 stem = os.path.join(tmp, "%d_%s_%s_%s" % (count, target, mode, who))
                                 if who == "ours":
                                     write_ours(path, element, mode, target, stem)
+                                elif args.baseline:
+                                    write_baseline(os.path.abspath(args.baseline), path, element, mode, target, stem)
                                 else:
                                     write_theirs(ref, path, element, mode, target, stem)
                                 if target == "vulkan":
@@ -229,7 +260,7 @@ def main():
                         if None in figs:
                             bad = res[figs.index(None)]["error"].strip().splitlines()
                             print("%-40s %-12s %-8s failed (%s): %s" % (
-                                label[:40], backend, mode, "ours" if figs[0] is None else "MaterialX's",
+                                label[:40], backend, mode, "ours" if figs[0] is None else other,
                                 bad[-1][:90] if bad else "?"))
                             continue
                         line = "%-40s %-12s %-8s" % (label[:40], backend, mode)
@@ -257,7 +288,7 @@ def main():
     for (backend, mode), t in totals.items():
         parts.append("%s %s: %s" % (backend, mode, ", ".join(
             "%s %s" % (c, ratio(*t[c])) for c in COLUMNS if ratio(*t[c]) != "-") or "-"))
-    print("overall ours / MaterialX (totals): " + "; ".join(parts))
+    print("overall ours / %s (totals): " % ("baseline" if args.baseline else "MaterialX") + "; ".join(parts))
     return 0
 
 

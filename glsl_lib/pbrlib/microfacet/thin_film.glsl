@@ -63,77 +63,108 @@ float mg_thin_film_cos2(float cosTheta, float eta2)
     return s2 >= 1.0 ? 1.0 : sqrt(1.0 - s2);
 }
 
-// ---- Polarized Airy summation (Belcour & Barla 2017, sec. 4 and supplemental).
+// ---- Polarized Airy summation (Belcour & Barla 2017, sec. 4 and supplemental), without angles.
+// An interface's phase phi enters the sum only as cos(m A + m phi) for the orders m = 1, 2 (A: the spectral
+// frequency times the round trip's phase), that is Re(e^{i m A} z^m) with z = e^{i phi}: each phase is carried as
+// the unit phasor r / |r| of its complex amplitude, its powers by complex products, and e^{2iA} comes from e^{iA}
+// by the double angle. One sin, cos and exp of four frequencies per evaluation, all three channels as vectors,
+// and no atan (eight per evaluation before: the GPU compilers' costliest part of a film).
+// Complex numbers per channel are (re, im) pairs of vec3.
 
-vec2 mg_cmul(vec2 a, vec2 b) { return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x); }
-vec2 mg_cdiv(vec2 a, vec2 b) { return vec2(a.x * b.x + a.y * b.y, a.y * b.x - a.x * b.y) / max(dot(b, b), 1.0e-20); }
-
-// Principal square root of a complex number (non-negative real part).
-vec2 mg_csqrt(vec2 z)
+// Reflectance |r|^2 and unit phasor r / |r| (0 where r = 0) of the amplitude r = num / den, per channel.
+void mg_film_ratio(vec3 num_re, vec3 num_im, vec3 den_re, vec3 den_im, out vec3 R, out vec3 u_re, out vec3 u_im)
 {
-    float r = length(z);
-    float re = sqrt(max(0.5 * (r + z.x), 0.0));
-    float im = sqrt(max(0.5 * (r - z.x), 0.0));
-    return vec2(re, z.y < 0.0 ? -im : im);
+    vec3 nn = num_re * num_re + num_im * num_im;
+    vec3 dd = den_re * den_re + den_im * den_im;
+    R = nn / max(dd, vec3(1.0e-20));
+    vec3 scale = inversesqrt(max(nn * dd, vec3(1.0e-30)));      // num conj(den) / (|num| |den|)
+    u_re = (num_re * den_re + num_im * den_im) * scale;
+    u_im = (num_im * den_re - num_re * den_im) * scale;
 }
 
-// Complex Fresnel amplitude reflection coefficients (s, p) at an interface from a medium of real index n1
-// into one of complex index n2 = eta + i k, for the incidence cosine cos1 (Born & Wolf, sec. 1.5 and 14.2).
-void mg_fresnel_amplitudes(float cos1, float n1, vec2 n2, out vec2 rs, out vec2 rp)
+// Reflectance and phase (unit phasor) of the s and p amplitudes at an interface from a film of index n1 into a base
+// of complex IOR eta + i k per channel (k = 0: a dielectric), at the cosine cos2 in the film (Born & Wolf, sec. 1.5
+// and 14.2: r_s = (cos - n cos_t) / (cos + n cos_t), r_p = (n^2 cos - n cos_t) / (n^2 cos + n cos_t), n the
+// relative index, n cos_t = sqrt(n^2 - sin^2) its principal root).
+void mg_thin_film_base(float cos2, float n1, vec3 eta, vec3 k, out vec3 Rs, out vec3 Rp,
+                       out vec3 us_re, out vec3 us_im, out vec3 up_re, out vec3 up_im)
 {
-    vec2 n = n2 / n1;
-    vec2 n_sq = mg_cmul(n, n);
-    vec2 n_cos_t = mg_csqrt(n_sq - vec2(1.0 - cos1 * cos1, 0.0));   // n cos(theta_t)
-    vec2 c = vec2(cos1, 0.0);
-    rs = mg_cdiv(c - n_cos_t, c + n_cos_t);
-    rp = mg_cdiv(n_sq * cos1 - n_cos_t, n_sq * cos1 + n_cos_t);
+    vec3 a = eta / n1;
+    vec3 b = k / n1;
+    vec3 nsq_re = a * a - b * b;
+    vec3 nsq_im = 2.0 * a * b;
+    vec3 w_re = nsq_re - (1.0 - cos2 * cos2);
+    vec3 r = sqrt(w_re * w_re + nsq_im * nsq_im);
+    vec3 q_re = sqrt(max(0.5 * (r + w_re), 0.0));
+    vec3 q_im = sqrt(max(0.5 * (r - w_re), 0.0));
+    q_im = mix(q_im, -q_im, lessThan(nsq_im, vec3(0.0)));
+    mg_film_ratio(cos2 - q_re, -q_im, cos2 + q_re, q_im, Rs, us_re, us_im);
+    vec3 pc_re = nsq_re * cos2;
+    vec3 pc_im = nsq_im * cos2;
+    mg_film_ratio(pc_re - q_re, pc_im - q_im, pc_re + q_re, pc_im + q_im, Rp, up_re, up_im);
 }
 
-// Reflectance |r|^2 and phase arg(r) of the s and p amplitudes at an interface into a base of complex IOR
-// eta + i k per channel (k = 0: a dielectric), from a film of index n1 at the cosine cos2 in the film.
-void mg_thin_film_base(float cos2, float n1, vec3 eta, vec3 k, out vec3 Rs, out vec3 Rp, out vec3 phis, out vec3 phip)
+// One polarization's share of the Airy sum (half of it: the light is unpolarized). R12, t12: the first interface's
+// reflectance and the sign of its (real) amplitude; R23 and (u_re, u_im): the base's reflectance and phasor.
+// Adds the order-0 weight to I0 and the orders' complex weights C_m z^m to (w1, w2) (each pair: re, im), with
+// z = e^{i (pi - phi12 + phi23)} = -sign(r12) u23 (the way back up through the first interface: pi minus its phase
+// going in, by the Stokes relations) and C_m = (Rs - T121) r123^m.
+void mg_thin_film_order_weights(float R12, float t12, vec3 R23, vec3 u_re, vec3 u_im, inout vec3 I0,
+                                inout vec3 w1_re, inout vec3 w1_im, inout vec3 w2_re, inout vec3 w2_im)
 {
-    for (int ch = 0; ch < 3; ++ch)
-    {
-        vec2 rs, rp;
-        mg_fresnel_amplitudes(cos2, n1, vec2(eta[ch], k[ch]), rs, rp);
-        Rs[ch] = dot(rs, rs);
-        Rp[ch] = dot(rp, rp);
-        phis[ch] = atan(rs.y, rs.x);
-        phip[ch] = atan(rp.y, rp.x);
-    }
+    float T121 = 1.0 - R12;
+    vec3 R123 = clamp(R12 * R23, 0.0, 0.9999);
+    vec3 r123 = sqrt(R123);
+    vec3 Rs = T121 * T121 * R23 / (1.0 - R123);
+    I0 += 0.5 * (R12 + Rs);
+    vec3 C1 = 0.5 * (Rs - T121) * r123;
+    vec3 z_re = -t12 * u_re;
+    vec3 z_im = -t12 * u_im;
+    w1_re += C1 * z_re;
+    w1_im += C1 * z_im;
+    vec3 C2 = C1 * r123;
+    w2_re += C2 * (z_re * z_re - z_im * z_im);
+    w2_im += C2 * (2.0 * z_re * z_im);
 }
 
-// Reflectance of a film (index eta2, thickness in nm) in air over a base whose film-side reflectance and
-// phase are given per polarization and channel (see mg_thin_film_base), at the incidence cosine cos1.
-// The first interface's phase on the way back up is pi minus its phase going in (Stokes relations).
-vec3 mg_thin_film_airy(float cos1, float eta2, float thickness, vec3 R23s, vec3 R23p, vec3 phi23s, vec3 phi23p)
+// Reflectance of a film (index eta2, thickness in nm) in air over a base whose film-side reflectance and phase
+// (unit phasor) are given per polarization and channel (see mg_thin_film_base), at the incidence cosine cos1.
+// The spectral integral of each order is the Fourier transform of the CIE XYZ sensitivities (Belcour & Barla 2017,
+// supplemental: Gaussian fits, x with a second lobe) at the order's path difference: frequencies f (x, y, z, x's
+// second lobe), amplitudes val sqrt(2 pi var), widths var, for the round trip's phase p = 2 pi opd;
+// order m weighs each by exp(-m^2 p^2 var) cos(m f p + m phi). XYZ component j takes the base's channel j.
+vec3 mg_thin_film_airy(float cos1, float eta2, float thickness, vec3 R23s, vec3 R23p,
+                       vec3 u23s_re, vec3 u23s_im, vec3 u23p_re, vec3 u23p_im)
 {
     eta2 = max(eta2, 1.0);              // a film rarer than the air outside reads as air (see mg_thin_film_over_ior)
     float c1 = clamp(cos1, 0.0, 1.0);
     float cos2 = mg_thin_film_cos2(c1, eta2);
-    vec2 r12[2];
-    mg_fresnel_amplitudes(c1, 1.0, vec2(eta2, 0.0), r12[0], r12[1]);
-    float opd = 2.0 * eta2 * thickness * cos2;         // optical path difference of one round trip
-    vec3 S0 = mg_thin_film_sensitivity(0.0, vec3(0.0));
-    vec3 I = vec3(0.0);
-    for (int pol = 0; pol < 2; ++pol)
-    {
-        vec3 R23 = pol == 0 ? R23s : R23p;
-        vec3 phi = (MG_PI - atan(r12[pol].y, r12[pol].x)) + (pol == 0 ? phi23s : phi23p);
-        float R12 = min(dot(r12[pol], r12[pol]), 1.0);
-        float T121 = 1.0 - R12;
-        vec3 R123 = clamp(R12 * R23, 0.0, 0.9999);
-        vec3 r123 = sqrt(R123);
-        vec3 Rs = T121 * T121 * R23 / (1.0 - R123);
-        I += 0.5 * (R12 + Rs) * S0;                     // m = 0
-        vec3 Cm = Rs - T121;
-        for (int m = 1; m <= 2; ++m)
-        {
-            Cm *= r123;
-            I += Cm * mg_thin_film_sensitivity(float(m) * opd, float(m) * phi);    // 0.5 (polarization) * 2
-        }
-    }
+    // the air-film interface: real amplitudes (eta2 >= 1, no total reflection from the air)
+    float nc = eta2 * cos2;
+    float rs12 = (c1 - nc) / (c1 + nc);
+    float rp12 = (eta2 * eta2 * c1 - nc) / (eta2 * eta2 * c1 + nc);
+    vec3 I0 = vec3(0.0), w1_re = vec3(0.0), w1_im = vec3(0.0), w2_re = vec3(0.0), w2_im = vec3(0.0);
+    mg_thin_film_order_weights(min(rs12 * rs12, 1.0), sign(rs12), R23s, u23s_re, u23s_im, I0, w1_re, w1_im, w2_re, w2_im);
+    mg_thin_film_order_weights(min(rp12 * rp12, 1.0), sign(rp12), R23p, u23p_re, u23p_im, I0, w1_re, w1_im, w2_re, w2_im);
+
+    const vec4 freq = vec4(1.6810e+06, 1.7953e+06, 2.2084e+06, 2.2399e+06);
+    const vec4 var = vec4(4.3278e+09, 9.3046e+09, 6.6121e+09, 4.5282e+09);
+    const vec4 amp = vec4(5.4856e-13, 4.4201e-13, 5.2481e-13, 9.7470e-14) * sqrt(MG_TWO_PI * var) / 1.0685e-7;
+    float p = MG_TWO_PI * 2.0e-9 * eta2 * thickness * cos2;        // round trip: opd = 2 eta2 d cos2 (nm)
+    vec4 A = freq * p;
+    vec4 c = cos(A), s = sin(A);
+    vec4 g = exp(-(p * p) * var);
+    vec4 g2 = g * g;
+    vec4 G1 = amp * g;
+    vec4 G2 = amp * (g2 * g2);                          // exp(-4 p^2 var)
+    vec4 c2 = 2.0 * c * c - 1.0;                         // cos 2A, sin 2A
+    vec4 s2 = 2.0 * s * c;
+    // x's second lobe takes the x channel's weights
+    vec4 W1_re = vec4(w1_re, w1_re.x), W1_im = vec4(w1_im, w1_im.x);
+    vec4 W2_re = vec4(w2_re, w2_re.x), W2_im = vec4(w2_im, w2_im.x);
+    vec4 orders = G1 * (c * W1_re - s * W1_im) + G2 * (c2 * W2_re - s2 * W2_im);
+    vec3 I = I0 * vec3(amp.x + amp.w, amp.y, amp.z) + 2.0 * orders.xyz;
+    I.x += 2.0 * orders.w;
     // CIE XYZ to CIE RGB under the equal-energy illuminant E (the paper's matrix: white maps to white)
     return clamp(mat3(2.3706743, -0.5138850, 0.0052982, -0.9000405, 1.4253036, -0.0146949,
                       -0.4706338, 0.0885814, 1.0093968) * I, 0.0, 1.0);
@@ -146,9 +177,9 @@ vec3 mg_thin_film_airy(float cos1, float eta2, float thickness, vec3 R23s, vec3 
 vec3 mg_thin_film_over_ior(float cos1, float eta2, float thickness, vec3 eta, vec3 k)
 {
     eta2 = max(eta2, 1.0);
-    vec3 Rs, Rp, phis, phip;
-    mg_thin_film_base(mg_thin_film_cos2(clamp(cos1, 0.0, 1.0), eta2), eta2, eta, k, Rs, Rp, phis, phip);
-    return mg_thin_film_airy(cos1, eta2, thickness, Rs, Rp, phis, phip);
+    vec3 Rs, Rp, us_re, us_im, up_re, up_im;
+    mg_thin_film_base(mg_thin_film_cos2(clamp(cos1, 0.0, 1.0), eta2), eta2, eta, k, Rs, Rp, us_re, us_im, up_re, up_im);
+    return mg_thin_film_airy(cos1, eta2, thickness, Rs, Rp, us_re, us_im, up_re, up_im);
 }
 
 // Film over a generalized Schlick base (generalized_schlick_bsdf; MaterialX PBR spec, Thin-Film Iridescence
@@ -170,6 +201,6 @@ vec3 mg_thin_film_over_schlick(float cos1, float eta2, float thickness, vec3 F0,
     vec3 R23 = MG_THIN_FILM_SCHLICK_R23 * mg_fresnel_schlick_f82(cos2, F0, F82, F90, exponent);
     vec3 s = sqrt(clamp(F0, 0.01, 0.99));
     vec3 eta3 = (1.0 + s) / (1.0 - s);
-    vec3 phi23s = mix(vec3(MG_PI), vec3(0.0), lessThan(eta3, vec3(eta2)));
-    return mg_thin_film_airy(cos1, eta2, thickness, R23, R23, phi23s, MG_PI - phi23s);
+    vec3 us = mix(vec3(-1.0), vec3(1.0), lessThan(eta3, vec3(eta2)));    // e^{i phi}: phi = pi or 0 for s
+    return mg_thin_film_airy(cos1, eta2, thickness, R23, R23, us, vec3(0.0), -us, vec3(0.0));   // p: pi - phi
 }
