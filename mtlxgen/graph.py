@@ -937,7 +937,7 @@ def _drawn_output(port, nodes):
 def did_you_mean(name, names):
     """ "; did you mean 'X'?" naming the closest of `names` to `name` (up to three), or "" where none is close."""
     import difflib
-    close = difflib.get_close_matches(name, [n for n in names if n], n=3, cutoff=0.6)
+    close = difflib.get_close_matches(name, list(dict.fromkeys(n for n in names if n)), n=3, cutoff=0.6)
     if not close:
         lowered = {n.lower(): n for n in names if n}
         close = [lowered[name.lower()]] if name.lower() in lowered else []
