@@ -338,7 +338,7 @@ def test_unknown_element_lists_the_renderable_elements(tmp_path):
     open(path, "w").write(REFUSED)
     with pytest.raises(diagnostics.MtlxError) as e:
         pipeline.generate(path, ["m_1"])
-    assert e.value.lines() == ["%s:0: no element 'm_1' in the document; did you mean 'm1' or 'm0'? (renderable "
+    assert e.value.lines() == ["%s:0: no element 'm_1' in the document; did you mean 'm1'? (renderable "
                                "elements: m0, m1)" % path]
 
 
