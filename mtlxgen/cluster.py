@@ -125,7 +125,7 @@ def package_digest():
         for base, dirs, names in os.walk(top):
             dirs[:] = sorted(d for d in dirs if d != "__pycache__")
             for name in sorted(names):
-                if name.endswith((".py", ".glsl", ".mtlx", ".js", ".html")):
+                if name.endswith((".py", ".glsl", ".mtlx")):        # what draws (not the web pages' assets)
                     path = os.path.join(base, name)
                     h.update(os.path.relpath(path, top).encode("utf-8", "surrogatepass") + b"\0")
                     with open(path, "rb") as f:
@@ -260,7 +260,9 @@ def run_tasks(address, tasks, done, bar, library_dirs=(), strict=False, options=
                 if now - last > RUNNING_EVERY:
                     last = now
                     try:
-                        bar.running = sum(len(keys) for keys in client.processing().values())
+                        threads = client.nthreads()         # (queued on a worker is not running)
+                        bar.running = sum(min(len(keys), threads.get(w, 1))
+                                          for w, keys in client.processing().items())
                     except Exception:
                         bar.running = len(futures)
                 done(i, items)
