@@ -64,3 +64,58 @@ def test_an_element_whose_materialx_shader_does_not_compile_is_not_counted(tmp_p
     finally:
         sweep.harness.close()
     assert len(rows) == 1 and not rows[0]["mx"] and "does not compile" in rows[0]["mx_error"], rows
+
+
+# ---------------------------------------------------------------- a fresh set (issue 26)
+
+def test_copies_of_known_documents_are_left_out(tmp_path):
+    """A public project's copy of a corpus document (re-indented) is not a document nobody has seen."""
+    import unseen_sweep
+    known = tmp_path / "known"
+    known.mkdir()
+    (known / "a.mtlx").write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n  <output name="o" '
+                                  'type="float" value="1" />\n</materialx>\n')
+    new = tmp_path / "new"
+    new.mkdir()
+    (new / "copy.mtlx").write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n\t\t<output name="o"  '
+                                   'type="float" value="1" />\n</materialx>')
+    (new / "other.mtlx").write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n  <output name="o" '
+                                    'type="float" value="2" />\n</materialx>\n')
+    (new / "stage.usda").write_text("#usda 1.0\n")
+    files = unseen_sweep.documents([str(new)], usd=True)
+    assert [os.path.basename(f) for f in files] == ["copy.mtlx", "other.mtlx", "stage.usda"]
+    assert [os.path.basename(f) for f in unseen_sweep.documents([str(new)])] == ["copy.mtlx", "other.mtlx"]
+    keep, copies = unseen_sweep.fresh(files, unseen_sweep.known_texts([str(known)]))
+    assert [os.path.basename(f) for f in keep] == ["other.mtlx", "stage.usda"]
+    assert [os.path.basename(f) for f in copies] == ["copy.mtlx"]
+
+
+def test_tables_by_source_and_of_stages():
+    import unseen_sweep
+    base = "/sweep"
+
+    def row(mx, gen, comp, par, usd=False):
+        return {"mx": mx, "generated": gen, "compiled": comp, "parity": par, "usd": usd}
+    results = [("/sweep/projA/x/a.mtlx", [row(True, True, True, True), row(False, False, False, False)], ""),
+               ("/sweep/projA/b.mtlx", [row(True, False, False, False)], ""),
+               ("/sweep/projB/c.mtlx", [row(True, True, True, False)], ""),
+               ("/sweep/projB/s.usda", [row(False, True, True, False, True), row(False, True, False, False, True)], "")]
+    text, tot = unseen_sweep.source_table(results, base, 1)
+    assert "| projA | 2 | 3 | 2 | 1 | 1 | 1 |" in text and "| projB | 1 | 1 | 1 | 1 | 1 | 0 |" in text
+    assert tot == [3, 4, 3, 2, 2, 1]
+    text, tot = unseen_sweep.usd_table(results, base)
+    assert tot == [2, 2, 1] and "| projB/s.usda | 2 | 2 | 1 |" in text
+    assert unseen_sweep.table(results, base)[1] == [4, 3, 2, 2, 1]      # stages are not in the documents' table
+
+
+def test_a_stage_is_swept_for_generated_and_compiled(tmp_path):
+    """Our stage with a shader output its definition declares (tests/data/unseen3): three materials, each
+    generated and compiled."""
+    import unseen_sweep
+    sweep = unseen_sweep.Sweep(size=TEST_SIZE, out=str(tmp_path))
+    try:
+        rows, note = sweep.document(os.path.join(ROOT, "tests", "data", "unseen3", "preview_displacement_output.usda"))
+    finally:
+        sweep.harness.close()
+    assert note == "" and len(rows) == 3
+    assert all(r["usd"] and r["generated"] and r["compiled"] for r in rows), rows

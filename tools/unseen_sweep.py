@@ -10,11 +10,17 @@ has not seen). For every renderable element MaterialX finds in each document, as
              pixels as ../shared/tools/mxharness.py), differ by a mean <= 2/255 and <= 1% of pixels > 8/255
 
 usage: tools/unseen_sweep.py PATH [PATH ...] [--out DIR] [--size N] [--no-color-management] [--ref-cache DIR]
-                             [--json FILE] [--only SUBSTRING]
+                             [--json FILE] [--only SUBSTRING] [--usd] [--known DIR ...] [--by-source N]
 PATH: .mtlx files or folders (searched recursively). Prints a table per document, then each element that is
 not at parity with its metric and a side-by-side image (ours | MaterialX | difference x8) under --out.
 --ref-cache keeps MaterialX's renders keyed by its shader text, so that a second sweep after a change of ours
 draws only ours. Exit status 0 (it measures; it does not judge).
+
+A fresh set (issue 26): --known DIR (default: ../shared/corpus and ../shared/seeds; repeatable) leaves out every
+document whose text, whitespace aside, is that of a .mtlx file there (public projects copy MaterialX's examples),
+so the counts are of documents not seen; --usd also sweeps USD stages (.usda, .usdc, .usd, .usdz), each
+UsdShadeMaterial a row that counts generated and compiled (MaterialX draws no stage: no parity column);
+--by-source N sums the table by the first N folders under the common base (one row per public project).
 """
 import argparse
 import hashlib
@@ -36,14 +42,48 @@ from mtlxgen.reference import MaterialXReference  # noqa: E402
 from mtlxgen.render import Renderer  # noqa: E402
 
 
-def documents(paths):
+USD_EXTENSIONS = (".usda", ".usdc", ".usd", ".usdz")
+KNOWN = [os.path.join(ROOT, "..", "shared", "corpus"), os.path.join(ROOT, "..", "shared", "seeds")]
+
+
+def documents(paths, usd=False):
+    ends = (".mtlx",) + (USD_EXTENSIONS if usd else ())
     out = []
     for p in paths:
         if os.path.isdir(p):
-            out += sorted(os.path.join(dp, f) for dp, _, fs in os.walk(p) for f in fs if f.endswith(".mtlx"))
+            out += sorted(os.path.join(dp, f) for dp, _, fs in os.walk(p) for f in fs if f.lower().endswith(ends))
         else:
             out.append(p)
     return [os.path.abspath(p) for p in out]
+
+
+def _text_key(path):
+    """A document's text with all whitespace removed (copies re-indented or re-wrapped are the same document)."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read(8 * 2 ** 20)
+    except OSError:
+        return None
+    return hashlib.sha256(b"".join(data.split())).hexdigest()
+
+
+def known_texts(folders):
+    """Keys (_text_key) of every .mtlx document under `folders`."""
+    keys = set()
+    for folder in folders:
+        if os.path.isdir(folder):
+            for dp, _, fs in os.walk(folder):
+                keys.update(_text_key(os.path.join(dp, f)) for f in fs if f.endswith(".mtlx"))
+    keys.discard(None)
+    return keys
+
+
+def fresh(files, known):
+    """(documents not among the known texts, documents left out as copies of a known one)."""
+    keep, seen = [], []
+    for f in files:
+        (seen if f.endswith(".mtlx") and _text_key(f) in known else keep).append(f)
+    return keep, seen
 
 
 def first_line(e, limit=110):
@@ -71,9 +111,43 @@ class Sweep:
             np.save(cached, img)
         return img
 
+    def stage(self, path, report=None):
+        """(rows, note) for a USD stage: one row per UsdShadeMaterial ours finds, generated and compiled (MaterialX
+        draws no stage: `usd` rows are counted apart)."""
+        try:
+            shaders, problems = pipeline.generate(path, None, partial=True)
+        except MtlxError as e:
+            return [{"file": path, "element": "(stage)", "usd": True, "mx": False, "generated": False,
+                     "compiled": False, "parity": False, "error": first_line(e)}], ""
+        except Exception as e:
+            return [], "cannot read it: %s" % first_line(e)
+        rows = []
+        for shader in shaders:
+            row = {"file": path, "element": shader.element, "usd": True, "mx": False, "generated": True,
+                   "compiled": False, "parity": False}
+            try:
+                self.harness.render_timed(shader.vertex, shader.fragment, None,
+                                          {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
+                row["compiled"] = True
+            except Exception as e:
+                row["error"] = "does not compile: " + first_line(e)
+            rows.append(row)
+            if report:
+                report(row)
+        if problems is not None:
+            for line in problems.lines():
+                row = {"file": path, "element": line.split(": ", 1)[0].rsplit(":", 1)[-1], "usd": True, "mx": False,
+                       "generated": False, "compiled": False, "parity": False, "error": line[:160]}
+                rows.append(row)
+                if report:
+                    report(row)
+        return rows, "" if rows else "no material"
+
     def document(self, path, report=None):
         """(rows, note): one row per element MaterialX finds renderable; note says why there are none.
         report(row) is called as each row is done."""
+        if path.lower().endswith(USD_EXTENSIONS):
+            return self.stage(path, report)
         try:
             doc = self.ref.load(path)
             elements = [e.getNamePath() for e in self.ref.mx_gen.findRenderableElements(doc)]
@@ -139,19 +213,60 @@ class Sweep:
             images.write_image(row["image"], np.concatenate([a, b, heat], axis=1))
 
 
+def _counts(rows):
+    counted = [r for r in rows if r["mx"]]
+    return [len(rows), len(counted), sum(r["generated"] for r in counted), sum(r["compiled"] for r in counted),
+            sum(r["parity"] for r in counted)]
+
+
 def table(results, base):
-    """The per-document table (markdown) and the totals."""
+    """The per-document table (markdown) and the totals (of .mtlx documents; stages: usd_table)."""
     lines = ["| document | elements | MaterialX generates | generated | compiled | parity |",
              "|---|---|---|---|---|---|"]
     tot = [0] * 5
+    results = [r for r in results if not r[0].lower().endswith(USD_EXTENSIONS)]
     for path, rows, note in results:
-        counted = [r for r in rows if r["mx"]]
-        n = [len(rows), len(counted), sum(r["generated"] for r in counted), sum(r["compiled"] for r in counted),
-             sum(r["parity"] for r in counted)]
+        n = _counts(rows)
         tot = [a + b for a, b in zip(tot, n)]
         name = os.path.relpath(path, base) if base else path
         lines.append("| %s | %d | %d | %d | %d | %d |%s" % ((name,) + tuple(n) + ((" " + note) if note else "",)))
     lines.append("| **all (%d documents)** | %d | %d | %d | %d | %d |" % ((len(results),) + tuple(tot)))
+    return "\n".join(lines), tot
+
+
+def source_of(path, base, depth):
+    parts = os.path.relpath(path, base).split(os.sep)
+    return "/".join(parts[:min(depth, len(parts) - 1)]) or parts[0]
+
+
+def source_table(results, base, depth):
+    """The table summed by source (the first `depth` folders under base): documents, elements, MaterialX
+    generates, generated, compiled, parity; .mtlx documents only."""
+    groups = {}
+    for path, rows, _ in results:
+        if path.lower().endswith(USD_EXTENSIONS):
+            continue
+        g = groups.setdefault(source_of(path, base, depth), [0] * 6)
+        for i, v in enumerate([1] + _counts(rows)):
+            g[i] += v
+    lines = ["| source | documents | elements | MaterialX generates | generated | compiled | parity |",
+             "|---|---|---|---|---|---|---|"]
+    lines += ["| %s | %d | %d | %d | %d | %d | %d |" % ((name,) + tuple(n)) for name, n in sorted(groups.items())]
+    tot = [sum(n[i] for n in groups.values()) for i in range(6)]
+    lines.append("| **all** | %d | %d | %d | %d | %d | %d |" % tuple(tot))
+    return "\n".join(lines), tot
+
+
+def usd_table(results, base):
+    """Stages: materials found, generated, compiled."""
+    stages = [(p, rows) for p, rows, _ in results if p.lower().endswith(USD_EXTENSIONS)]
+    lines = ["| stage | materials | generated | compiled |", "|---|---|---|---|"]
+    tot = [0, 0, 0]
+    for path, rows in stages:
+        n = [len(rows), sum(r["generated"] for r in rows), sum(r["compiled"] for r in rows)]
+        tot = [a + b for a, b in zip(tot, n)]
+        lines.append("| %s | %d | %d | %d |" % ((os.path.relpath(path, base),) + tuple(n)))
+    lines.append("| **all (%d stages)** | %d | %d | %d |" % ((len(stages),) + tuple(tot)))
     return "\n".join(lines), tot
 
 
@@ -166,10 +281,19 @@ def main():
     ap.add_argument("--ref-cache", default=None, help="folder of MaterialX's renders, keyed by its shader text")
     ap.add_argument("--json", default=None, help="write every row here")
     ap.add_argument("--only", default=None, help="only documents whose path contains this")
+    ap.add_argument("--usd", action="store_true", help="sweep USD stages too (generated and compiled)")
+    ap.add_argument("--known", action="append", default=None,
+                    help="leave out copies of the .mtlx documents in this folder (default: ../shared/corpus and "
+                         "../shared/seeds; --known none: leave out nothing)")
+    ap.add_argument("--by-source", type=int, default=0, help="also sum the table by the first N folders")
     args = ap.parse_args()
-    files = documents(args.paths)
+    files = documents(args.paths, args.usd)
     if args.only:
         files = [f for f in files if args.only in f]
+    known = [] if args.known == ["none"] else (args.known or KNOWN)
+    files, copies = fresh(files, known_texts(known))
+    if copies:
+        print("left out %d copies of known documents (%s)" % (len(copies), ", ".join(known)), flush=True)
     out = args.out or tempfile.mkdtemp(prefix="unseen-")
     os.makedirs(out, exist_ok=True)
     base = os.path.commonpath([os.path.dirname(f) for f in files]) if files else ""
@@ -177,7 +301,9 @@ def main():
     results, t0 = [], time.time()
 
     def report(r):
-        if not r["mx"]:
+        if r.get("usd"):
+            status = ("PASS  generated, compiled" if r["compiled"] else "FAIL  " + r.get("error", ""))
+        elif not r["mx"]:
             status = "MaterialX cannot generate it: " + r.get("mx_error", "")
         elif r["parity"]:
             status = "PASS  mean %.2f, %.2f%% > 8/255" % (r["mean"], 100 * r["fraction"])
@@ -196,6 +322,12 @@ def main():
     text, tot = table(results, base)
     print()
     print(text)
+    if args.by_source:
+        print()
+        print(source_table(results, base, args.by_source)[0])
+    if args.usd:
+        print()
+        print(usd_table(results, base)[0])
     print("\n%d elements MaterialX generates: generated %d, compiled %d, parity %d (%.0f s); images in %s"
           % (tot[1], tot[2], tot[3], tot[4], time.time() - t0, out))
     if args.json:
