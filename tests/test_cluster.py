@@ -110,6 +110,11 @@ def test_cluster_pool_and_this_process_give_the_same_results_and_bytes(project, 
     files = {how: _files(out) for how, (_, out) in runs.items()}
     assert set(files["here"]) >= {spoiled + ".new.png", spoiled + ".diff.png", spoiled + ".golden.png"}
     assert files["here"] == files["pool"] == files["cluster"]
+    # update on the cluster: the spoiled golden rewritten with this process's bytes, the others left as they are
+    done = golden.update(None, gdir, workers=None, progress=False, scheduler=dask_cluster.address)
+    assert sorted(s for _, s, _ in done) == ["unchanged"] * 11 + ["updated"], done
+    assert open(os.path.join(gdir, spoiled + ".png"), "rb").read() == open(
+        str(project / "golden_images" / (spoiled + ".png")), "rb").read()
     # batch: the written images, byte for byte
     outs = {}
     for how, extra in (("here", ["-j", "1"]), ("cluster", ["--scheduler", dask_cluster.address])):
