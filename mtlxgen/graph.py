@@ -403,6 +403,13 @@ class GraphBuilder:
                             "MaterialX does (both are %s in GLSL)" % (what, want, src.type, want, mxtypes.glsl_type(want)))
         return replace(src, type=want)
 
+    @staticmethod
+    def broadcasts(port, dtype):
+        """A float value (no connection) on an input whose named nodedef declares a colour or vector: MaterialX's
+        generator writes the nodedef's type built from the one number (`vec3(0.7)`), every component that value."""
+        return (port.type == "float" and dtype in _FIRST_COMPONENT and port.value is not None and not port.error
+                and not (port.nodename or port.nodegraph or port.interfacename or port.output))
+
     def first_component(self, port, src, what):
         """A float port connected to a colour or vector: its first component (r or x), warned. MaterialX's GLSL
         assigns the vector to the float (`float x = v;`), which drivers that accept it (NVIDIA's) read as the
@@ -533,10 +540,15 @@ class GraphBuilder:
                 if port.type != dtype:
                     problem = "input '%s' of node '%s' has type %s; %s expects %s" % (name, node.name, port.type,
                                                                                      nd.name, dtype)
-                    if not (named and mxtypes.interchangeable(port.type, dtype)):
+                    if named and self.broadcasts(port, dtype):
+                        self.warn(port.loc, "%s: its value %s is read as %s, every component %s, as MaterialX reads "
+                                            "it where a node names its nodedef" % (problem, port.value, dtype, port.value))
+                        port = replace(port, type=dtype, value=(float(port.value),) * mxtypes.components(dtype))
+                    elif not (named and mxtypes.interchangeable(port.type, dtype)):
                         raise MtlxError((port.loc, problem))
-                    self.warn(port.loc, "%s: read as %s, as MaterialX does where a node names its nodedef"
-                              % (problem, dtype))
+                    else:
+                        self.warn(port.loc, "%s: read as %s, as MaterialX does where a node names its nodedef"
+                                  % (problem, dtype))
                 if port.nodename or port.nodegraph or port.interfacename or port.output:
                     if port.nodename and not port.interfacename and not (port.error and not port.connected):
                         dep = scope.nodes.get(port.nodename)        # a node of this scope not built yet:

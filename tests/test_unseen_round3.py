@@ -364,3 +364,35 @@ def test_unknown_element_from_the_command_line(tmp_path):
     assert proc.returncode == 1 and "Traceback" not in proc.stderr
     assert proc.stderr.strip().splitlines() == [
         "%s:0: no element 'M1' in the document; did you mean 'm1'? (renderable elements: m0, m1)" % path]
+
+
+# ---------------------------------------------------------------- found by the sweep: a number for a colour
+
+SCALAR_VALUE = os.path.join(DATA, "named_nodedef_scalar_value.mtlx")
+
+
+def test_a_number_for_a_colour_of_a_named_nodedef_is_every_component(harness, cms_reference):
+    """bhouston/materialx.js's standard_surface_combined example: opacity="0.7" typed float on a node naming
+    ND_standard_surface_surfaceshader (opacity: color3). MaterialX writes vec3(0.7); so do we, warned at the input."""
+    _, lines = warnings_of(SCALAR_VALUE)
+    for name, value in (("base_color", "0.35"), ("opacity", "0.6"), ("specular_color", "0.8")):
+        line = line_of(SCALAR_VALUE, 'name="%s"' % name)
+        assert any(ln.startswith("%s:%d: warning: input '%s'" % (SCALAR_VALUE, line, name)) and
+                   "its value %s is read as color3, every component %s" % (value, value) in ln for ln in lines), lines
+    assert len(lines) == 3, lines
+    with pytest.raises(diagnostics.MtlxError, match="every component"):
+        pipeline.generate(SCALAR_VALUE, strict=True)
+    assert_harness_parity(harness, cms_reference, SCALAR_VALUE, "M_scalar_colours")
+
+
+def test_a_number_for_a_colour_without_a_named_nodedef_stays_refused(tmp_path, cms_reference):
+    """Without nodedef= MaterialX finds no nodedef for the node (its inputs' types pick it): refused at the input."""
+    text = open(SCALAR_VALUE).read().replace(' nodedef="ND_standard_surface_surfaceshader"', "")
+    path = str(tmp_path / "unnamed.mtlx")
+    open(path, "w").write(text)
+    with pytest.raises(Exception, match="Could not find a nodedef"):
+        cms_reference.generate(path, "M_scalar_colours")
+    with pytest.raises(diagnostics.MtlxError) as e:
+        pipeline.generate(path)
+    assert any(":6: input 'base_color' of node 'scalar_colours' has type float; ND_standard_surface_surfaceshader "
+               "expects color3" in ln for ln in e.value.lines()), e.value.lines()
