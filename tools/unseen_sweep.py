@@ -112,36 +112,32 @@ class Sweep:
         return img
 
     def stage(self, path, report=None):
-        """(rows, note) for a USD stage: one row per UsdShadeMaterial ours finds, generated and compiled (MaterialX
-        draws no stage: `usd` rows are counted apart)."""
+        """(rows, note) for a USD stage: one row per UsdShadeMaterial, generated and compiled (MaterialX draws no
+        stage: `usd` rows are counted apart). note: the stage's own problems (composition), which are no row."""
         try:
-            shaders, problems = pipeline.generate(path, None, partial=True)
+            session = pipeline.Session(path)
         except MtlxError as e:
-            return [{"file": path, "element": "(stage)", "usd": True, "mx": False, "generated": False,
-                     "compiled": False, "parity": False, "error": first_line(e)}], ""
-        except Exception as e:
             return [], "cannot read it: %s" % first_line(e)
         rows = []
-        for shader in shaders:
-            row = {"file": path, "element": shader.element, "usd": True, "mx": False, "generated": True,
+        for element in session.elements:
+            row = {"file": path, "element": element, "usd": True, "mx": False, "generated": False,
                    "compiled": False, "parity": False}
+            rows.append(row)
             try:
+                shader = session.shader(element)
+                row["generated"] = True
                 self.harness.render_timed(shader.vertex, shader.fragment, None,
                                           {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
                 row["compiled"] = True
+            except MtlxError as e:
+                row["error"] = first_line(e)
             except Exception as e:
-                row["error"] = "does not compile: " + first_line(e)
-            rows.append(row)
+                row["error"] = ("does not compile: " if row["generated"] else "") + first_line(e)
             if report:
                 report(row)
-        if problems is not None:
-            for line in problems.lines():
-                row = {"file": path, "element": line.split(": ", 1)[0].rsplit(":", 1)[-1], "usd": True, "mx": False,
-                       "generated": False, "compiled": False, "parity": False, "error": line[:160]}
-                rows.append(row)
-                if report:
-                    report(row)
-        return rows, "" if rows else "no material"
+        notes = session.notes()
+        return rows, ("; ".join(first_line(MtlxError([n])) for n in notes[:2]) if notes else
+                      "" if rows else "no material")
 
     def document(self, path, report=None):
         """(rows, note): one row per element MaterialX finds renderable; note says why there are none.
