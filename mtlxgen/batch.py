@@ -128,6 +128,15 @@ def error_lines(e, path, element=""):
             % (path, "%s: " % element if element else "", what)]
 
 
+def failed_items(job, element, error):
+    """The Items of a job that could not run (of its one `element`, or of all its elements): error an exception
+    (error_lines) or a sentence said of each."""
+    lines = (lambda el: ["%s:0: %s%s" % (job.path, "%s: " % el if el else "", error)]) if isinstance(error, str) \
+        else (lambda el: error_lines(error, job.path, el))
+    return [Item(job.path, el, job.settings, error=lines(el)) for el in ((element,) if element else
+                                                                         job.elements or ("",))]
+
+
 def run_job(job, library_dirs=(), strict=False, options=None, post=None, post_args=None):
     """Render one job in this process. Never raises for bad input: failures become Items with errors.
     strict: warnings are errors (the element is not drawn). options: further pipeline.Session keywords
@@ -296,7 +305,8 @@ def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False
     results = [None] * len(tasks)
     if scheduler is not None:
         from . import cluster
-        cluster.run_tasks(scheduler, tasks, done, bar, library_dirs, strict, options, post, args_of)
+        cluster.run_tasks(scheduler, tasks, done, bar, run_job, failed_items, library_dirs, strict, options, post,
+                          args_of)
         bar.close()
         return [item for chunk in results for item in chunk]
     workers = default_workers() if workers is None else max(1, int(workers))

@@ -24,6 +24,7 @@ element's failure, one line naming the document and element. A scheduler that go
 MtlxError, one line naming it; the caller has written nothing yet (the client alone writes goldens, images and
 results, and only once every task is in).
 """
+import dataclasses
 import functools
 import hashlib
 import logging
@@ -189,21 +190,23 @@ def _check_workers(client, address, want):
 
 # ---------------------------------------------------------------- running the tasks
 
-def in_cwd(cwd, job, library_dirs, strict, options, post, post_args):
-    """batch.run_job in the client's working directory (a task: relative paths read, and are named, as there)."""
-    from .batch import run_job
+def in_cwd(run, cwd, job, library_dirs, strict, options, post, post_args):
+    """run(job, ...) (batch.run_job) in the client's working directory (a task: relative paths read, and are
+    named, as there)."""
     if os.getcwd() != cwd:
         os.chdir(cwd)
-    return run_job(job, library_dirs, strict, options, post, post_args)
+    return run(job, library_dirs, strict, options, post, post_args)
 
 
-def run_tasks(address, tasks, done, bar, library_dirs=(), strict=False, options=None, post=None, args_of=None):
+def run_tasks(address, tasks, done, bar, run, failed, library_dirs=(), strict=False, options=None, post=None,
+              args_of=None):
     """Run batch jobs `tasks` on the cluster at `address`; done(i, [Item]) for each as it comes in (in any
-    order; every task once). bar: the batch.Progress (its `running` is kept up to date)."""
+    order; every task once). bar: the batch.Progress (its `running` is kept up to date). run: the per-job
+    function (batch.run_job, sent by reference); failed(job, element, error): the Items of a job (or of its one
+    element) that could not run, error an exception or a sentence. (Both handed in by batch, which imports this
+    module: nothing here imports batch.)"""
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
-
-    from .batch import Item, Job
     files = [t.path for t in tasks] + [t.settings.environment for t in tasks]
     want = manifest(files, list(library_dirs) + [os.path.dirname(os.path.abspath(t.path)) for t in tasks[:1]])
     cwd = want["cwd"]
@@ -214,7 +217,7 @@ def run_tasks(address, tasks, done, bar, library_dirs=(), strict=False, options=
         def submit(job):
             key = "mtlxgen-%s-%s" % (os.path.basename(job.path)[:40], hashlib.sha1(repr(job).encode(
                 "utf-8", "surrogatepass")).hexdigest()[:12])
-            return client.submit(in_cwd, cwd, job, tuple(library_dirs), strict, options, post, args_of(job),
+            return client.submit(in_cwd, run, cwd, job, tuple(library_dirs), strict, options, post, args_of(job),
                                  key=key, pure=False, retries=0)
 
         futures = {}
@@ -236,20 +239,16 @@ def run_tasks(address, tasks, done, bar, library_dirs=(), strict=False, options=
                     if isinstance(e, KilledWorker) and element is None and len(task.elements) > 1:
                         parts[i] = {}
                         for el in task.elements:        # each alone: the one that kills its workers is found
-                            alone = submit(Job(task.path, (el,), task.settings))
+                            alone = submit(dataclasses.replace(task, elements=(el,)))
                             futures[alone] = (i, el)
                             ac.add(alone)
                         continue
                     if isinstance(e, KilledWorker):
                         why = ("drawing it killed the worker process, and again where it was run once more (Dask "
                                "KilledWorker); not drawn")
-                        items = [Item(task.path, el, task.settings, error=["%s:0: %s%s" % (
-                            task.path, "%s: " % el if el else "", why)]) for el in ((element,) if element else
-                                                                               task.elements or ("",))]
+                        items = failed(task, element, why)
                     else:
-                        from .batch import error_lines
-                        items = [Item(task.path, el, task.settings, error=error_lines(e, task.path, el))
-                                 for el in ((element,) if element else task.elements or ("",))]
+                        items = failed(task, element, e)
                 fut.release()
                 if element is not None:
                     parts[i][element] = items
