@@ -45,14 +45,25 @@ vec3 mg_fresnel_base(MgFresnel f, float cosTheta)
     return mg_fresnel_schlick_f82(cosTheta, f.F0, f.F82, f.F90, f.exponent);
 }
 
-// Reflectance of the curve under its thin film (film_thickness > 0) at cosTheta.
+// Reflectance of the curve under its thin film (film_thickness > 0) at cosTheta, with one Airy sum whatever the
+// model: the model only picks the base's film-side reflectance and phase (a dielectric is the complex IOR ior + 0 i).
+// (A sum per model would be inlined three times into every call before the constant model folds: the GPU
+// compilers' largest input, the film being evaluated in and around every sample loop.) A film IOR below the
+// outside air's 1 (a varying one driven low) is read as 1, as MaterialX reads it: taken as given, light from
+// outside would be totally reflected beyond sin = film_ior, a bright ring inside the sphere; at 1 the film vanishes
+// and the base's own curve remains.
 vec3 mg_fresnel_film(MgFresnel f, float cosTheta)
 {
-    if (f.model == MG_FRESNEL_DIELECTRIC)
-        return mg_thin_film_over_ior(cosTheta, f.film_ior, f.film_thickness, f.ior, vec3(0.0));
-    if (f.model == MG_FRESNEL_CONDUCTOR)
-        return mg_thin_film_over_ior(cosTheta, f.film_ior, f.film_thickness, f.ior, f.extinction);
-    return mg_thin_film_over_schlick(cosTheta, f.film_ior, f.film_thickness, f.F0, f.F82, f.F90, f.exponent);
+    float eta2 = max(f.film_ior, 1.0);
+    float c1 = clamp(cosTheta, 0.0, 1.0);
+    float cos2 = mg_thin_film_cos2(c1, eta2);
+    vec3 Rs, Rp, us_re, us_im, up_re, up_im;
+    if (f.model == MG_FRESNEL_SCHLICK)
+        mg_thin_film_schlick_base(cos2, eta2, f.F0, f.F82, f.F90, f.exponent, Rs, Rp, us_re, us_im, up_re, up_im);
+    else
+        mg_thin_film_base(cos2, eta2, f.ior, f.model == MG_FRESNEL_CONDUCTOR ? f.extinction : vec3(0.0),
+                          Rs, Rp, us_re, us_im, up_re, up_im);
+    return mg_thin_film_airy(c1, eta2, cos2, f.film_thickness, Rs, Rp, us_re, us_im, up_re, up_im);
 }
 
 // Reflectance at cosTheta, through the thin film where there is one. A loop over samples tests the film once,

@@ -4,7 +4,8 @@
 // mg_thin_film_airy: per polarization (s, p), with the reflection phase of each interface from its
 // complex Fresnel amplitude, summed in CIE XYZ and brought to RGB by the paper's XYZ -> CIE RGB (E)
 // matrix; the base's colour enters per XYZ component (component j from the base's channel j).
-// mg_thin_film_over_ior: a dielectric or conductor base; mg_thin_film_over_schlick: a generalized Schlick base.
+// mg_thin_film_base (a dielectric or conductor base) or mg_thin_film_schlick_base (a generalized Schlick base) give
+// the base's side, mg_thin_film_airy the film's reflectance (pbrlib/microfacet/fresnel_model.glsl: mg_fresnel_film).
 // mg_thin_film_reflectance is the older polarization-averaged form, kept for Enterprise PBR's film.
 
 // Fourier transform of the CIE XYZ sensitivities for optical path difference opd (nm) and phase
@@ -127,18 +128,16 @@ void mg_thin_film_order_weights(float R12, float t12, vec3 R23, vec3 u_re, vec3 
     w2_im += C2 * (2.0 * z_re * z_im);
 }
 
-// Reflectance of a film (index eta2, thickness in nm) in air over a base whose film-side reflectance and phase
-// (unit phasor) are given per polarization and channel (see mg_thin_film_base), at the incidence cosine cos1.
+// Reflectance of a film (index eta2 >= 1, thickness in nm) in air over a base whose film-side reflectance and phase
+// (unit phasor) are given per polarization and channel (mg_thin_film_base, mg_thin_film_schlick_base), at the
+// incidence cosine c1 in [0, 1], whose refraction cosine in the film is cos2 (mg_thin_film_cos2).
 // The spectral integral of each order is the Fourier transform of the CIE XYZ sensitivities (Belcour & Barla 2017,
 // supplemental: Gaussian fits, x with a second lobe) at the order's path difference: frequencies f (x, y, z, x's
 // second lobe), amplitudes val sqrt(2 pi var), widths var, for the round trip's phase p = 2 pi opd;
 // order m weighs each by exp(-m^2 p^2 var) cos(m f p + m phi). XYZ component j takes the base's channel j.
-vec3 mg_thin_film_airy(float cos1, float eta2, float thickness, vec3 R23s, vec3 R23p,
+vec3 mg_thin_film_airy(float c1, float eta2, float cos2, float thickness, vec3 R23s, vec3 R23p,
                        vec3 u23s_re, vec3 u23s_im, vec3 u23p_re, vec3 u23p_im)
 {
-    eta2 = max(eta2, 1.0);              // a film rarer than the air outside reads as air (see mg_thin_film_over_ior)
-    float c1 = clamp(cos1, 0.0, 1.0);
-    float cos2 = mg_thin_film_cos2(c1, eta2);
     // the air-film interface: real amplitudes (eta2 >= 1, no total reflection from the air)
     float nc = eta2 * cos2;
     float rs12 = (c1 - nc) / (c1 + nc);
@@ -170,37 +169,27 @@ vec3 mg_thin_film_airy(float cos1, float eta2, float thickness, vec3 R23s, vec3 
                       -0.4706338, 0.0885814, 1.0093968) * I, 0.0, 1.0);
 }
 
-// Film over a base of complex IOR eta + i k per channel (k = 0: a dielectric). A film IOR below the outside
-// air's 1 (a varying one driven low) is read as 1, as MaterialX reads it: taken as given, light from outside
-// would be totally reflected beyond sin = eta2, a bright ring inside the sphere; at 1 the film vanishes and the
-// base's own curve remains.
-vec3 mg_thin_film_over_ior(float cos1, float eta2, float thickness, vec3 eta, vec3 k)
-{
-    eta2 = max(eta2, 1.0);
-    vec3 Rs, Rp, us_re, us_im, up_re, up_im;
-    mg_thin_film_base(mg_thin_film_cos2(clamp(cos1, 0.0, 1.0), eta2), eta2, eta, k, Rs, Rp, us_re, us_im, up_re, up_im);
-    return mg_thin_film_airy(cos1, eta2, thickness, Rs, Rp, us_re, us_im, up_re, up_im);
-}
-
-// Film over a generalized Schlick base (generalized_schlick_bsdf; MaterialX PBR spec, Thin-Film Iridescence
-// Model): the base's curve (F82 tint included) at the refraction cosine in the film is the film-base
-// reflectance of both polarizations, and the phase there is a step, from the base IOR that color0 gives by
-// the Schlick-to-IOR inversion (F0 held to [0.01, 0.99]). In the amplitude convention of mg_fresnel_amplitudes
-// (r_p = -r_s head-on) that step is pi for s and 0 for p on a base denser than the film, 0 and pi on a rarer
-// one, as the exact dielectric gives below its Brewster angle.
+// The film-side reflectance and phase of a generalized Schlick base (generalized_schlick_bsdf; MaterialX PBR spec,
+// Thin-Film Iridescence Model): the base's curve (F82 tint included) at the refraction cosine cos2 in the film (of
+// index eta2) is the reflectance of both polarizations, and the phase there is a step, from the base IOR that
+// color0 gives by the Schlick-to-IOR inversion (F0 held to [0.01, 0.99]). In the amplitude convention of
+// mg_thin_film_base (r_p = -r_s head-on) that step is pi for s and 0 for p on a base denser than the film, 0 and
+// pi on a rarer one, as the exact dielectric gives below its Brewster angle.
 // MG_THIN_FILM_SCHLICK_R23: the share of the curve each polarization takes. 1 as the spec says: a film of IOR 1
 // then leaves the base's curve unchanged, and a film over a perfect mirror (color0 = color90 = 1) reflects
 // everything. MaterialX 1.39's GLSL takes 0.5 (docs/differences: thin_film_schlick).
 #ifndef MG_THIN_FILM_SCHLICK_R23
 #define MG_THIN_FILM_SCHLICK_R23 1.0
 #endif
-vec3 mg_thin_film_over_schlick(float cos1, float eta2, float thickness, vec3 F0, vec3 F82, vec3 F90, float exponent)
+void mg_thin_film_schlick_base(float cos2, float eta2, vec3 F0, vec3 F82, vec3 F90, float exponent,
+                               out vec3 Rs, out vec3 Rp, out vec3 us_re, out vec3 us_im, out vec3 up_re, out vec3 up_im)
 {
-    eta2 = max(eta2, 1.0);
-    float cos2 = mg_thin_film_cos2(clamp(cos1, 0.0, 1.0), eta2);
-    vec3 R23 = MG_THIN_FILM_SCHLICK_R23 * mg_fresnel_schlick_f82(cos2, F0, F82, F90, exponent);
+    Rs = MG_THIN_FILM_SCHLICK_R23 * mg_fresnel_schlick_f82(cos2, F0, F82, F90, exponent);
+    Rp = Rs;
     vec3 s = sqrt(clamp(F0, 0.01, 0.99));
     vec3 eta3 = (1.0 + s) / (1.0 - s);
-    vec3 us = mix(vec3(-1.0), vec3(1.0), lessThan(eta3, vec3(eta2)));    // e^{i phi}: phi = pi or 0 for s
-    return mg_thin_film_airy(cos1, eta2, thickness, R23, R23, us, vec3(0.0), -us, vec3(0.0));   // p: pi - phi
+    us_re = mix(vec3(-1.0), vec3(1.0), lessThan(eta3, vec3(eta2)));    // e^{i phi}: phi = pi or 0 for s
+    us_im = vec3(0.0);
+    up_re = -us_re;                                                     // p: pi - phi
+    up_im = vec3(0.0);
 }
