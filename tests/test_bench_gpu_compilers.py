@@ -60,3 +60,10 @@ def test_one_element_on_radv_aco():
     last = lines[-1]
     assert last.startswith("overall ours / MaterialX (totals): radv-aco complete: cpu "), last
     assert re.search(r"radv-aco reduced: cpu \d+\.\d\d, instr \d+\.\d\d, regs \d+\.\d\d", last), last
+
+
+def test_a_baseline_that_is_no_project_copy_is_one_line(tmp_path):
+    p = _run("--baseline", str(tmp_path), "--only", "gltf_pbr_default")
+    assert p.returncode == 1 and "Traceback" not in p.stderr, p.stdout + p.stderr
+    assert p.stdout.strip() == ("bench_gpu_compilers: --baseline %s: no mtlxgen/ there (a copy of the project is "
+                                "needed)" % tmp_path), p.stdout
