@@ -185,3 +185,168 @@ def prepare(source=None, samples=ENV_SAMPLES, intensity=1.0, irradiance_size=IRR
                 "u_envMatrix": [float(x) for x in np.array(ENV_MATRIX).T.ravel()],
                 "u_envLightIntensity": float(intensity)}
     return Environment(mip_chain(env) if mips else [env], irradiance_map(env, *irradiance_size), uniforms)
+
+
+# ------------------------------------------------------------------ the GGX-prefiltered map (environment "prefiltered")
+
+PREFILTER_SAMPLES = 256     # GGX samples per texel of a prefiltered level (each a filtered lookup of the box chain)
+PREFILTER_TEXELS = 2.0      # glsl_lib MG_ENV_PREFILTER_TEXELS: level l holds alpha_l = 2^l K 2 pi / w
+PREFILTER_LIB = "lighting/environment_prefilter.glsl"
+
+# The recipe a host follows for shaders whose manifest says "environment": "prefiltered" (written into the manifest's
+# application entry of u_envRadiance, docs/interface.md "The prefiltered environment"): what prefilter() does here
+# and the web pages' script does in WebGL2.
+PREFILTER_RECIPE = {
+    "method": "ggx",
+    "source": "the lat-long radiance with its box-filtered mip chain (as for fis), linear-mipmap-linear, repeat",
+    "levels": "as many as the source's; level l is floor(w / 2^l) x floor(h / 2^l), each at least 1",
+    "level_alpha": "level 0: the map itself; level l >= 1: alpha_l = 2^l * 2 * 2 pi / w (w: level 0's width)",
+    "texel": "direction of uv = (texel + 0.5) / level size: elevation (0.5 - v) pi, azimuth (u - 0.5) 2 pi, "
+             "d = (cos e sin a, sin e, -cos e cos a), in the map's frame (no u_envMatrix)",
+    "integral": "sum over samples of L(l) G1(l) / sum of G1(l) (Smith masking), n = v = d, halfway vectors drawn from GGX D(h)(n.h) "
+                "at Hammersley points; each read at the source level 0.5 log2(1 / (samples pdf texel solid "
+                "angle)) + 1, pdf = D(h) / 4, texel solid angle 2 pi^2 cos(e) / (w h)",
+    "samples": PREFILTER_SAMPLES,
+    "glsl": "glsl_lib/" + PREFILTER_LIB + " (mg_env_prefilter_texel); mtlxgen.environment.prefilter_sources()",
+    "lookup": "level mg_env_prefiltered_lod(sqrt(ax ay)): alpha / alpha_1 below alpha_1, else 1 + log2(alpha / "
+              "alpha_1), clamped to the chain, along mg_env_prefiltered_direction (bent for anisotropy, pulled to the "
+              "normal with roughness); times the split-sum albedo of glsl_lib/pbrlib/microfacet/albedo.glsl",
+    "sampler": "linear-mipmap-linear, repeat in u, clamp to edge in v",
+}
+
+_PREFILTER_VS = """
+out vec2 v_uv;
+void main()
+{
+    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    v_uv = p;
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+"""
+
+_PREFILTER_MAIN = """
+uniform sampler2D u_source;
+uniform int u_sourceMips;
+uniform int u_level;
+uniform int u_samples;
+layout(location = 0) out vec4 out_color;
+void main()
+{
+    ivec2 size = max(textureSize(u_source, 0) >> u_level, ivec2(1));
+    out_color = vec4(mg_env_prefilter_texel(u_source, u_sourceMips, ivec2(gl_FragCoord.xy), size, u_level,
+                                            u_samples), 1.0);
+}
+"""
+
+
+def _lib_closure(rel):
+    """glsl_lib files `rel` requires, dependencies first, then rel itself: [(rel, text)]."""
+    from .emit import read_lib_file
+    order, seen = [], set()
+
+    def visit(r):
+        if r in seen:
+            return
+        seen.add(r)
+        for dep in read_lib_file(r)[1]:
+            visit(dep)
+        order.append((r, read_lib_file(r)[0]))
+    visit(rel)
+    return order
+
+
+def prefilter_sources(target="glsl"):
+    """(vertex, fragment) GLSL of the prefilter pass: a full-screen triangle (three vertices, no attributes) whose
+    fragment writes one texel of one level (uniforms u_source: the box-filtered chain on a unit, u_sourceMips, u_level,
+    u_samples). target "glsl" (#version 400) or "essl" (#version 300 es, for WebGL2); the fragment is
+    glsl_lib's prefilter code that main() reaches."""
+    from . import glsldeps
+    if target == "essl":
+        head = "#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
+    elif target == "glsl":
+        head = "#version 400\n"
+    else:
+        raise ValueError("target must be glsl or essl, not %r" % (target,))
+    code = []
+    for rel, text in glsldeps.used_code(_lib_closure(PREFILTER_LIB), [_PREFILTER_MAIN]):
+        code.append("// ---- glsl_lib/%s\n%s\n" % (rel, text.rstrip()))
+    return head + _PREFILTER_VS, head + "\n".join(code) + _PREFILTER_MAIN
+
+
+def level_sizes(width, height):
+    """(w, h) of each level of a full chain, level 0 first (OpenGL's sizes: halved, rounded down, at least 1)."""
+    sizes = [(int(width), int(height))]
+    while sizes[-1] != (1, 1):
+        w, h = sizes[-1]
+        sizes.append((max(1, w // 2), max(1, h // 2)))
+    return sizes
+
+
+def level_alpha(level, width):
+    """The GGX alpha level `level` of a prefiltered map holds (glsl_lib mg_env_prefiltered_alpha; 0 for level 0)."""
+    return 0.0 if level <= 0 else 2.0 ** level * PREFILTER_TEXELS * 2.0 * np.pi / float(width)
+
+
+def prefiltered_lod(alpha, width, mips):
+    """The level the split-sum lookup reads for roughness alpha (glsl_lib mg_env_prefiltered_lod)."""
+    alpha1 = 2.0 * PREFILTER_TEXELS * 2.0 * np.pi / float(width)
+    lod = alpha / alpha1 if alpha < alpha1 else 1.0 + np.log2(alpha / alpha1)
+    return float(np.clip(lod, 0.0, max(mips - 1, 0)))
+
+
+class Prefilter:
+    """The prefilter pass in a moderngl context (3.3 core or later; float colour targets): run() turns a lat-long
+    texture with its box-filtered mip chain into a new float texture whose levels hold the GGX lobes of
+    level_alpha(). Each level is drawn into a framebuffer of its size and copied into its level of the result
+    through a pixel buffer (GL-side: no round trip through the host). Release when done."""
+
+    def __init__(self, ctx):
+        vertex, fragment = prefilter_sources("glsl")
+        self.ctx = ctx
+        self.prog = ctx.program(vertex_shader=vertex, fragment_shader=fragment)
+        self.vao = ctx.vertex_array(self.prog, [])
+
+    def run(self, source, samples=PREFILTER_SAMPLES):
+        """The GGX-prefiltered texture (RGBA float32, linear-mipmap-linear, repeat) of `source`, a moderngl
+        texture holding the lat-long radiance and its full mip chain."""
+        import moderngl
+        ctx = self.ctx
+        w, h = source.size
+        sizes = level_sizes(w, h)
+        out = ctx.texture((w, h), 4, dtype="f4")
+        out.build_mipmaps(0, len(sizes) - 1)         # allocate every level (overwritten below)
+        source.use(0)
+        self.prog["u_source"].value = 0
+        self.prog["u_sourceMips"].value = len(sizes)
+        self.prog["u_samples"].value = int(samples)
+        pixels = ctx.buffer(reserve=w * h * 16)
+        for level, (lw, lh) in enumerate(sizes):
+            target = ctx.texture((lw, lh), 4, dtype="f4")
+            fbo = ctx.framebuffer(color_attachments=[target])
+            try:
+                fbo.use()
+                fbo.viewport = (0, 0, lw, lh)
+                ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
+                self.prog["u_level"].value = level
+                self.vao.render(moderngl.TRIANGLES, vertices=3)
+                fbo.read_into(pixels, components=4, dtype="f4")
+                out.write(pixels, viewport=(0, 0, lw, lh), level=level)
+            finally:
+                fbo.release()
+                target.release()
+        pixels.release()
+        out.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        out.repeat_y = False            # the poles: a coarse level's top row is not blended with its bottom row
+        return out
+
+    def release(self):
+        self.vao.release()
+        self.prog.release()
+
+
+def prefiltered_variant(fragment):
+    """The fragment of a lit fis shader made the prefiltered one: the defines `--environment prefiltered` writes,
+    after the #version line (the two shaders differ in nothing else: glsl_lib code is pasted for both methods)."""
+    from .emit import _ENVIRONMENT_DEFINES
+    first, _, rest = fragment.partition("\n")
+    return "\n".join([first] + ["#define " + d for d in _ENVIRONMENT_DEFINES["prefiltered"]] + [rest])

@@ -347,15 +347,31 @@ class Renderer:
             old[1].release()
 
     def set_environment(self, environment=None):
-        """Light with this lat-long radiance map (None: the scene's sky) and its irradiance."""
-        for t in {id(t): t for t in (getattr(self, "env", None), getattr(self, "irradiance", None)) if t}.values():
+        """Light with this lat-long radiance map (None: the scene's sky) and its irradiance. The GGX-prefiltered map
+        that shaders of the prefiltered method read (prefiltered_env) is made from it when one is first drawn."""
+        for t in {id(t): t for t in (getattr(self, "env", None), getattr(self, "irradiance", None),
+                                     getattr(self, "_prefiltered", None)) if t}.values():
             t.release()
+        self._prefiltered = None
         env = self.scene.sky() if environment is None else np.asarray(environment, dtype=np.float32)
         # lat-long maps go up top row first: v = 0 is the top of the image (interface.md)
         self.env = self._float_texture(env, mipmaps=True, top_first=True)
         self.env_mips = mip_count(env.shape[1], env.shape[0])
         self.irradiance = (self._float_texture(irradiance_map(env), mipmaps=False, top_first=True)
                            if self.scene.sh_irradiance else self.env)
+
+    def prefiltered_env(self):
+        """The GGX-prefiltered radiance map of this environment (environment.Prefilter: made on the GPU at the first
+        call, kept until the environment changes), bound as u_envRadiance to shaders whose manifest says
+        "environment": "prefiltered"."""
+        if self._prefiltered is None:
+            from .environment import Prefilter
+            pass_ = Prefilter(self.ctx)
+            try:
+                self._prefiltered = pass_.run(self.env)
+            finally:
+                pass_.release()
+        return self._prefiltered
 
     def __enter__(self):
         return self
@@ -367,7 +383,8 @@ class Renderer:
         if self.ctx is not None:
             if not self._owns_ctx:          # a window's context: release what was made in it, leave it open
                 for t in ([self.fbo, self.fbo.depth_attachment, self.index, self.env] + list(self.fbo.color_attachments)
-                          + [b for b, _ in self.buffers.values()] + self._textures()):
+                          + [b for b, _ in self.buffers.values()] + self._textures()
+                          + ([self._prefiltered] if self._prefiltered is not None else [])):
                     t.release()
                 if self.irradiance is not self.env:
                     self.irradiance.release()
@@ -502,7 +519,8 @@ class Renderer:
         and the lights (the renderer's when None; () for none)."""
         prog = prepared.prog
         camera = camera or DEFAULT_CAMERA
-        units = [("u_envRadiance", self.env), ("u_envIrradiance", self.irradiance)]
+        radiance = self.prefiltered_env() if prepared.manifest.get("environment") == "prefiltered" else self.env
+        units = [("u_envRadiance", radiance), ("u_envIrradiance", self.irradiance)]
         for name, path, default in prepared.samplers:
             t = self.image_texture(path) if path else None
             if t is None and default is not None:     # unreadable file: its default colour

@@ -1,4 +1,4 @@
-// requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl pbrlib/microfacet/ggx.glsl
+// requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl lighting/environment_prefiltered_lookup.glsl pbrlib/microfacet/ggx.glsl
 // Environment light in a GGX lobe for the Enterprise PBR material. The lobe's shape comes from filtered
 // importance sampling of visible normals (Krivanek & Colbert 2008, "Real-time Shading with Filtered
 // Importance Sampling"; Heitz 2018, "Sampling the GGX Distribution of Visible Normals") and is
@@ -21,9 +21,8 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
     Vt.z = max(Vt.z, 1.0e-4);
     Vt = normalize(Vt);
 #ifdef MG_ENV_PREFILTERED
-    // split sum (Karis 2013): the mirror direction at a roughness-chosen mip level
-    vec3 R = frame * vec3(-Vt.xy, Vt.z);
-    return mg_env_radiance(R, max(mg_epbr_env_lod(R, 1.0 / (4.0 * MG_PI * max(alpha.x * alpha.y, 1.0e-7)), 1) - 1.0, 0.0));
+    // split sum (Karis 2013): the GGX-prefiltered map at the lobe's level (lighting/environment_prefiltered_lookup.glsl)
+    return mg_env_radiance(frame * mg_env_prefiltered_direction(Vt, alpha), mg_env_lod_prefiltered(alpha));
 #else
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);

@@ -76,14 +76,14 @@ MG_ENV_REFRACTION_SAMPLES(mg_env_refraction_samples_bare, mg_fresnel_base)
 // exceed 1 (docs/differences/README.md, rough transmission). The cap's factor depends on the view and the
 // surface only, never on the environment. Define MG_REFRACTION_UNBOUNDED for the estimate without the cap
 // (a comparison switch: tests/test_rough_transmission.py shows it at parity with MaterialX on the whole
-// sphere). MG_REFRACTION_PREFILTERED (the split-sum method): one lookup along the refracted direction at
-// the lobe's level, times `through` (1 - the tabulated reflected albedo).
+// sphere). MG_REFRACTION_PREFILTERED (the split-sum method): one lookup in the GGX-prefiltered map along the
+// refracted direction at the level of the lobe's roughness, times `through` (1 - the tabulated reflected albedo).
 vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel fr, vec3 comp, vec3 through,
                        bool thin_walled)
 {
 #ifdef MG_REFRACTION_PREFILTERED
     vec3 T = thin_walled ? -V : mg_refraction_solid_sphere(-V, N, ior);
-    return mg_env_radiance(T, mg_env_lod_prefiltered(T, alpha)) * through;
+    return mg_env_radiance(T, mg_env_lod_prefiltered(alpha)) * through;
 #else
     mat3 frame = mg_tangent_frame(N, Tg);
     vec3 Vt = V * frame;

@@ -1,8 +1,9 @@
-// requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl pbrlib/microfacet/ggx.glsl pbrlib/microfacet/fresnel_model.glsl pbrlib/microfacet/albedo.glsl
+// requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl lighting/environment_prefiltered_lookup.glsl pbrlib/microfacet/ggx.glsl pbrlib/microfacet/fresnel_model.glsl pbrlib/microfacet/albedo.glsl
 // Environment light reflected by a GGX lobe. Default: filtered importance sampling (Krivanek & Colbert
 // 2008, "Real-time Shading with Filtered Importance Sampling") of visible normals with u_envRadianceSamples
 // Hammersley points; define MG_ENV_PREFILTERED for the split-sum alternative (Karis 2013, "Real Shading
-// in Unreal Engine 4"): one lookup in the mip chain at a roughness-chosen level times the lobe's albedo.
+// in Unreal Engine 4"): u_envRadiance is then the GGX-prefiltered map (lighting/environment_prefilter.glsl), read
+// once at the level holding the lobe's roughness, times the lobe's albedo from our own table.
 #ifndef MG_ENV_LOD_BIAS
 #define MG_ENV_LOD_BIAS 1.0
 #endif
@@ -17,13 +18,6 @@ float mg_env_lod(vec3 dir, float pdf, int n)
     float cos_el = sqrt(max(1.0 - dir.y * dir.y, 1.0e-4));
     float omega_p = 2.0 * MG_PI * MG_PI * cos_el / (size.x * size.y);
     return clamp(0.5 * log2(omega_s / omega_p) + MG_ENV_LOD_BIAS, 0.0, float(u_envRadianceMips - 1));
-}
-
-// Mip level for the split-sum lookup: the level whose texels cover the lobe's solid angle, taken as the
-// inverse of its peak density 1 / (4 pi ax ay) (the GGX reflection pdf at h = n, seen head-on); no bias.
-float mg_env_lod_prefiltered(vec3 dir, vec2 alpha)
-{
-    return max(mg_env_lod(dir, 1.0 / (4.0 * MG_PI * max(alpha.x * alpha.y, 1.0e-7)), 1) - MG_ENV_LOD_BIAS, 0.0);
 }
 
 // The lobe's albedo for the split sum: the Schlick-split albedo, plus the node's own Fresnel curve's
@@ -81,11 +75,11 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
     Vt.z = max(Vt.z, 1.0e-4);
     Vt = normalize(Vt);
 #ifdef MG_ENV_PREFILTERED
-    vec3 Lt = reflect(-Vt, vec3(0.0, 0.0, 1.0));
+    vec3 Lt = mg_env_prefiltered_direction(Vt, alpha);
     if (retro)
         Lt = mg_retro(Lt);
     vec3 L = frame * Lt;
-    return mg_env_radiance(L, mg_env_lod_prefiltered(L, alpha)) * mg_ggx_albedo_at_view(Vt.z, alpha, fr);
+    return mg_env_radiance(L, mg_env_lod_prefiltered(alpha)) * mg_ggx_albedo_at_view(Vt.z, alpha, fr);
 #else
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
