@@ -713,7 +713,8 @@ class Emitter:
             "attributes": dict(vertex.attributes),
             "uniforms": [self.manifest_uniform(u, decl) for u in g.uniforms.values() if u.type != "filename"],
             "textures": [self.manifest_texture(u, decl) for u in g.uniforms.values() if u.type == "filename"],
-            "application": [interface.manifest_entry(interface.TABLE[n], self.max_lights)
+            "application": [interface.manifest_entry(interface.TABLE[n], self.max_lights,
+                                                     self.environment if lit else None)
                             for n in sorted(decl.app_names)],
         }
         manifest.update(decl.manifest())

@@ -88,10 +88,16 @@ def _float(x):
     return r if ("." in r or "e" in r) else r + ".0"
 
 
-def manifest_entry(u, max_lights=MAX_LIGHTS):
-    """The manifest's record of an application uniform: name, GLSL type, default, meaning."""
+def manifest_entry(u, max_lights=MAX_LIGHTS, environment=None):
+    """The manifest's record of an application uniform: name, GLSL type, default, meaning. environment "prefiltered":
+    u_envRadiance's record says what to bind instead of the box-filtered chain, and `prefilter` holds the recipe
+    (environment.PREFILTER_RECIPE, docs/interface.md "The prefiltered environment")."""
     entry = {"name": u.name, "type": u.type + u.array_suffix.replace("MG_MAX_LIGHTS", str(max_lights)),
              "default": list(u.default) if isinstance(u.default, tuple) else u.default, "meaning": u.meaning}
+    if u.name == "u_envRadiance" and environment == "prefiltered":
+        from .environment import PREFILTER_RECIPE
+        entry["meaning"] = "lat-long HDR radiance, GGX-prefiltered per mip level (prefilter: the recipe)"
+        entry["prefilter"] = dict(PREFILTER_RECIPE)
     if u.name == "u_lightData":
         entry["members"] = [{"name": n, "type": t} for n, t in LIGHT_DATA]
     return entry
