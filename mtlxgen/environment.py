@@ -316,6 +316,7 @@ class Prefilter:
         out = ctx.texture((w, h), 4, dtype="f4")
         out.build_mipmaps(0, len(sizes) - 1)         # allocate every level (overwritten below)
         source.use(0)
+        wrap_v, source.repeat_y = source.repeat_y, False      # the poles: reads near one never blend in the other
         self.prog["u_source"].value = 0
         self.prog["u_sourceMips"].value = len(sizes)
         self.prog["u_samples"].value = int(samples)
@@ -335,6 +336,7 @@ class Prefilter:
                 fbo.release()
                 target.release()
         pixels.release()
+        source.repeat_y = wrap_v
         out.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         out.repeat_y = False            # the poles: a coarse level's top row is not blended with its bottom row
         return out

@@ -2,7 +2,8 @@
 
     Viewer        the state of one viewing session, drawn into any framebuffer: the document's elements and
                   their linked shaders, an orbit camera, the environment, lights and background, progressive
-                  accumulation of environment samples, screenshots. Draws with render.Renderer (prepare/draw:
+                  accumulation of environment samples (fis shaders draw their GGX-prefiltered variant while the
+                  camera moves: one lookup a lobe), screenshots. Draws with render.Renderer (prepare/draw:
                   the same binding code as `mtlxgen render`) into a float framebuffer and presents it.
     Reloader      generation off the drawing thread: the document re-read, the shown element regenerated,
                   problems collected; the drawing thread compares the text and relinks only what changed.
@@ -501,6 +502,13 @@ class Loaded:
     values: dict = field(default_factory=dict)       # uniform -> the document's value on the program (manifest's,
                                                      # then those value edits set)
     edited: set = field(default_factory=set)         # uniforms value edits set since the text was generated
+    moving: object = None               # the prefiltered variant drawn while the camera moves (Viewer.moving_prepared)
+
+    def release(self):
+        self.prepared.release()
+        if self.moving is not None:
+            self.moving.release()
+            self.moving = None
 
     def folded(self, uniform):
         """A public input the specialized shader has as a constant (editing it regenerates)."""
@@ -545,6 +553,7 @@ class Viewer:
         self.frame_samples = frame_samples
         self.keep_program = keep_program    # False: relink on every change, values too (as MaterialXView does)
         self.progressive = progressive
+        self.moving_prefiltered = True      # draw the GGX-prefiltered variant while the camera moves (fis shaders)
         self.background = background
         self.lights_on = True
         self.output_dir = output_dir
@@ -737,7 +746,7 @@ class Viewer:
             # specialized shader's folded input the panel set, now kept)
             before, after = initial_values(old.generated.fragment), initial_values(g.fragment)
             overrides = {k: v for k, v in old.overrides.items() if before.get(k) == after.get(k) or k not in before}
-            old.prepared.release()
+            old.release()
         for k, v in overrides.items():
             set_uniform(prepared.prog, k, v)
         self.loaded[name] = Loaded(g, prepared, overrides=overrides, values=manifest_values(g))
@@ -1039,7 +1048,10 @@ class Viewer:
             # surface closure), so "over" is premultiplied; a cut-out shows the environment, not a hole
             ctx.enable(self.renderer.mgl.BLEND)
             ctx.blend_func = self.renderer.mgl.ONE, self.renderer.mgl.ONE_MINUS_SRC_ALPHA
-        self.renderer.draw(loaded.prepared, target=frame, camera=camera, clear=False, env_samples=n,
+        prepared = loaded.prepared
+        if self.moving and self._quick == MOVING_SAMPLES and self.moving_prefiltered:
+            prepared = self.moving_prepared(loaded) or prepared
+        self.renderer.draw(prepared, target=frame, camera=camera, clear=False, env_samples=n,
                            sample_frame=(k, frames) if frames > 1 else (0, 1), lights=lights)
         ctx.disable(self.renderer.mgl.BLEND)
         ctx.disable(self.renderer.mgl.DEPTH_TEST)
@@ -1054,6 +1066,33 @@ class Viewer:
         self._quads["copy"].render(self.renderer.mgl.TRIANGLES, vertices=3)
         ctx.disable(self.renderer.mgl.BLEND)
         self.accumulated = k + 1
+
+    def moving_prepared(self, loaded):
+        """The prefiltered variant of a lit fis shader (environment.prefiltered_variant: the same text with the split
+        sum's defines), linked at the first camera move and kept with the element's program, its uniforms given the
+        program's values before each draw (panel and value edits included). None where the element is unlit or
+        already prefiltered."""
+        if loaded.generated.manifest.get("environment") != "fis" or "u_envRadianceSamples" not in loaded.prepared.prog:
+            return None
+        if loaded.moving is None:
+            from .environment import prefiltered_variant
+            g = loaded.generated
+            try:
+                loaded.moving = self.renderer.prepare(g.vertex, prefiltered_variant(g.fragment),
+                                                      dict(g.manifest, environment="prefiltered"))
+            except Exception:           # the driver refused it: the fis program draws the moving frames
+                self.moving_prefiltered = False
+                return None
+        src, dst = loaded.prepared.prog, loaded.moving.prog
+        mgl = self.renderer.mgl
+        for name in dst:
+            u = dst[name]
+            if isinstance(u, mgl.Uniform) and name in src and getattr(u, "gl_type", None) not in render._SAMPLER_TYPES:
+                try:
+                    u.value = src[name].value
+                except Exception:       # a member moderngl cannot read back: bind() sets what the draw needs
+                    pass
+        return loaded.moving
 
     def _draw_background(self, camera):
         prog = self._programs["background"]
@@ -1132,7 +1171,7 @@ class Viewer:
             self.watcher.close()
         self.reloader.close()
         for loaded in self.loaded.values():
-            loaded.prepared.release()
+            loaded.release()
         self.loaded = {}
         for q in self._quads.values():
             q.release()
