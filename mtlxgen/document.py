@@ -526,8 +526,9 @@ def _substitute_tokens(doc):
 @gc_paused()
 def load(path, search_paths=(), source="document"):
     """Read and build a document from a .mtlx file."""
+    from .upgrade import upgrade_tree       # each included document from its own version, as MaterialX reads it
     read_slips = []         # slips of the XML itself (text before the declaration, after the root element)
-    root = read_file(path, search_paths, warnings=read_slips)
+    root = read_file(path, search_paths, warnings=read_slips, upgrade=upgrade_tree)
     if not read_slips:
         return build(root, path, source)
     try:

@@ -34,6 +34,7 @@ class _Budget:
     bytes: int = 0
     include_tags: int = 0       # elements that may be includes (tags ending in 'include'): none, nothing to splice
     warnings: list = None       # (Loc, message): slips of the XML itself that MaterialX's reader reads past
+    upgrade: object = None      # upgrade(root, warnings) -> root: applied to each included document (read_file)
 
 
 class gc_paused(contextlib.ContextDecorator):
@@ -290,14 +291,16 @@ def _read_document(path, loc, what, budget):
     return root
 
 
-def read_file(path, search_paths=(), warnings=None):
+def read_file(path, search_paths=(), warnings=None, upgrade=None):
     """Read a .mtlx file, splicing xi:include'd documents. Returns the root XElement.
 
-    Included files must be inside the document's folder, the search paths or the data libraries; each is
-    upgraded to 1.39 from its own version before it is spliced in (as MaterialX reads an included document).
-    warnings: a list that receives (Loc, message) for each slip of the XML that is read past."""
+    Included files must be inside the document's folder, the search paths or the data libraries.
+    warnings: a list that receives (Loc, message) for each slip of the XML that is read past.
+    upgrade(root, warnings) -> root: applied to each included document, from its own version, before it is
+    spliced in (as MaterialX reads an included document; document.load hands in upgrade.upgrade_tree). None: the
+    included elements as written (the viewer's and docedit's walks over what the files say)."""
     path = os.path.abspath(path)
-    budget = _Budget(warnings=warnings)
+    budget = _Budget(warnings=warnings, upgrade=upgrade)
     root = _read_document(path, Loc(path, 0), "the document", budget)
     if budget.include_tags:         # else nothing to splice (and the parse bounded the nesting)
         roots = files.allowed_roots(path, search_paths)
@@ -347,8 +350,8 @@ def _read_include(el, search_paths, roots, chain, budget):
     if budget.includes > MAX_INCLUDES:
         raise MtlxError((el.loc, "more than %d included files" % MAX_INCLUDES))
     sub = _read_document(os.path.abspath(target), el.loc, what, budget)
-    from .upgrade import upgrade_tree       # its own version: MaterialX upgrades each document it reads
-    sub = upgrade_tree(sub, budget.warnings)
+    if budget.upgrade is not None:      # from its own version: MaterialX upgrades each document it reads
+        sub = budget.upgrade(sub, budget.warnings)
     # the included document's own version and prefixes apply to what came from it
     for grand in sub.children:
         for key in ("fileprefix", "geomprefix", "colorspace"):
