@@ -823,6 +823,8 @@ def main(argv=None):
               % (getattr(args, "command", ""), package, package), file=sys.stderr)
         return 1
     except RecursionError:
+        if os.environ.get("MTLXGEN_DEBUG"):
+            raise
         print("%s: error: the document nests too deeply to process" % getattr(args, "file", "mtlxgen"), file=sys.stderr)
         return 1
     except Exception as e:     # a bug of ours: one line, the traceback only on request
