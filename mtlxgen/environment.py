@@ -18,6 +18,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+# the prefilter's recipe is part of the shaders' application interface, which interface.py holds (the manifest
+# writes it); PREFILTER_RECIPE is re-exported here for hosts
+from .interface import PREFILTER_LIB, PREFILTER_RECIPE, PREFILTER_SAMPLES, PREFILTER_TEXELS  # noqa: F401
+
 ENV_SAMPLES = 64        # u_envRadianceSamples render, view's converged picture, web and three bind
 IRRADIANCE_SIZE = (128, 64)
 
@@ -189,30 +193,7 @@ def prepare(source=None, samples=ENV_SAMPLES, intensity=1.0, irradiance_size=IRR
 
 # ------------------------------------------------------------------ the GGX-prefiltered map (environment "prefiltered")
 
-PREFILTER_SAMPLES = 256     # GGX samples per texel of a prefiltered level (each a filtered lookup of the box chain)
-PREFILTER_TEXELS = 2.0      # glsl_lib MG_ENV_PREFILTER_TEXELS: level l holds alpha_l = 2^l K 2 pi / w
-PREFILTER_LIB = "lighting/environment_prefilter.glsl"
-
-# The recipe a host follows for shaders whose manifest says "environment": "prefiltered" (written into the manifest's
-# application entry of u_envRadiance, docs/interface.md "The prefiltered environment"): what prefilter() does here
-# and the web pages' script does in WebGL2.
-PREFILTER_RECIPE = {
-    "method": "ggx",
-    "source": "the lat-long radiance with its box-filtered mip chain (as for fis), linear-mipmap-linear, repeat",
-    "levels": "as many as the source's; level l is floor(w / 2^l) x floor(h / 2^l), each at least 1",
-    "level_alpha": "level 0: the map itself; level l >= 1: alpha_l = 2^l * 2 * 2 pi / w (w: level 0's width)",
-    "texel": "direction of uv = (texel + 0.5) / level size: elevation (0.5 - v) pi, azimuth (u - 0.5) 2 pi, "
-             "d = (cos e sin a, sin e, -cos e cos a), in the map's frame (no u_envMatrix)",
-    "integral": "sum over samples of L(l) G1(l) / sum of G1(l) (Smith masking), n = v = d, halfway vectors drawn from GGX D(h)(n.h) "
-                "at Hammersley points; each read at the source level 0.5 log2(1 / (samples pdf texel solid "
-                "angle)) + 1, pdf = D(h) / 4, texel solid angle 2 pi^2 cos(e) / (w h)",
-    "samples": PREFILTER_SAMPLES,
-    "glsl": "glsl_lib/" + PREFILTER_LIB + " (mg_env_prefilter_texel); mtlxgen.environment.prefilter_sources()",
-    "lookup": "level mg_env_prefiltered_lod(sqrt(ax ay)): alpha / alpha_1 below alpha_1, else 1 + log2(alpha / "
-              "alpha_1), clamped to the chain, along mg_env_prefiltered_direction (bent for anisotropy, pulled to the "
-              "normal with roughness); times the split-sum albedo of glsl_lib/pbrlib/microfacet/albedo.glsl",
-    "sampler": "linear-mipmap-linear, repeat in u, clamp to edge in v",
-}
+# (the recipe, PREFILTER_RECIPE, is part of the shaders' application interface: interface.py holds it)
 
 _PREFILTER_VS = """
 out vec2 v_uv;

@@ -91,11 +91,10 @@ def _float(x):
 def manifest_entry(u, max_lights=MAX_LIGHTS, environment=None):
     """The manifest's record of an application uniform: name, GLSL type, default, meaning. environment "prefiltered":
     u_envRadiance's record says what to bind instead of the box-filtered chain, and `prefilter` holds the recipe
-    (environment.PREFILTER_RECIPE, docs/interface.md "The prefiltered environment")."""
+    (PREFILTER_RECIPE below, docs/interface.md "The prefiltered environment")."""
     entry = {"name": u.name, "type": u.type + u.array_suffix.replace("MG_MAX_LIGHTS", str(max_lights)),
              "default": list(u.default) if isinstance(u.default, tuple) else u.default, "meaning": u.meaning}
     if u.name == "u_envRadiance" and environment == "prefiltered":
-        from .environment import PREFILTER_RECIPE
         entry["meaning"] = "lat-long HDR radiance, GGX-prefiltered per mip level (prefilter: the recipe)"
         entry["prefilter"] = dict(PREFILTER_RECIPE)
     if u.name == "u_lightData":
@@ -134,3 +133,32 @@ def absolute_textures(manifest, folder):
     base = os.path.abspath(folder)
     return dict(manifest, textures=[dict(t, file=os.path.normpath(os.path.join(base, t["file"])))
                                     if t.get("file") and not os.path.isabs(t["file"]) else t for t in textures])
+
+
+# ---------------------------------------------------------------- the prefiltered environment's recipe
+# (environment.Prefilter carries it out; docs/interface.md "The prefiltered environment")
+
+PREFILTER_SAMPLES = 256     # GGX samples per texel of a prefiltered level (each a filtered lookup of the box chain)
+PREFILTER_TEXELS = 2.0      # glsl_lib MG_ENV_PREFILTER_TEXELS: level l holds alpha_l = 2^l K 2 pi / w
+PREFILTER_LIB = "lighting/environment_prefilter.glsl"
+
+# The recipe a host follows for shaders whose manifest says "environment": "prefiltered" (written into the manifest's
+# application entry of u_envRadiance, docs/interface.md "The prefiltered environment"): what prefilter() does here
+# and the web pages' script does in WebGL2.
+PREFILTER_RECIPE = {
+    "method": "ggx",
+    "source": "the lat-long radiance with its box-filtered mip chain (as for fis), linear-mipmap-linear, repeat",
+    "levels": "as many as the source's; level l is floor(w / 2^l) x floor(h / 2^l), each at least 1",
+    "level_alpha": "level 0: the map itself; level l >= 1: alpha_l = 2^l * 2 * 2 pi / w (w: level 0's width)",
+    "texel": "direction of uv = (texel + 0.5) / level size: elevation (0.5 - v) pi, azimuth (u - 0.5) 2 pi, "
+             "d = (cos e sin a, sin e, -cos e cos a), in the map's frame (no u_envMatrix)",
+    "integral": "sum over samples of L(l) G1(l) / sum of G1(l) (Smith masking), n = v = d, halfway vectors drawn from GGX D(h)(n.h) "
+                "at Hammersley points; each read at the source level 0.5 log2(1 / (samples pdf texel solid "
+                "angle)) + 1, pdf = D(h) / 4, texel solid angle 2 pi^2 cos(e) / (w h)",
+    "samples": PREFILTER_SAMPLES,
+    "glsl": "glsl_lib/" + PREFILTER_LIB + " (mg_env_prefilter_texel); mtlxgen.environment.prefilter_sources()",
+    "lookup": "level mg_env_prefiltered_lod(sqrt(ax ay)): alpha / alpha_1 below alpha_1, else 1 + log2(alpha / "
+              "alpha_1), clamped to the chain, along mg_env_prefiltered_direction (bent for anisotropy, pulled to the "
+              "normal with roughness); times the split-sum albedo of glsl_lib/pbrlib/microfacet/albedo.glsl",
+    "sampler": "linear-mipmap-linear, repeat in u, clamp to edge in v",
+}
