@@ -2,8 +2,9 @@
 
 ADDRESS is tcp://HOST:PORT (or tls://...), a running `dask scheduler` with `dask worker`s, or local:N, a
 LocalCluster of N worker processes started here for the run (one thread each: one GL context per process).
-Each task is batch.run_job on a chunk of one document's elements (batch.CHUNK at most): the very function the
-process pool runs, with the run's `post` step (golden check compares on the worker, and only a failure's images
+Each task is batch.run_job on consecutive jobs (chunks of one document's elements, batch.CHUNK at most), grouped
+so that a task holds up to CHUNK elements while every worker thread still gets several tasks (groups_of): the very
+function the process pool runs, with the run's `post` step (golden check compares on the worker, and only a failure's images
 come back), so the results are those of a local run, byte for byte.
 
 Inputs are read from the same paths on every worker: documents, the textures and includes they name, the
@@ -18,8 +19,9 @@ files); a worker that does not is one line naming the file (or the worker) and n
 Faults. A worker that dies mid-run: its tasks run elsewhere (the scheduler reschedules them) and each element
 is reported once. A task that kills its worker as often as the scheduler allows
 (`distributed.scheduler.allowed-failures`: 1 on the LocalCluster of local:N, so twice; set it on your own
-scheduler, e.g. DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=1) ends as KilledWorker: a chunk of several
-elements is then split and each element sent alone, and an element that kills its workers again is that
+scheduler, e.g. DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=1, with DASK_DISTRIBUTED__SCHEDULER__WORKER_SATURATION=1.0
+so that a worker holds no queued task that its death would count against) ends as KilledWorker: a chunk of several
+elements is then split (a group job by job, a job element by element) and each sent alone, and an element that kills its workers again is that
 element's failure, one line naming the document and element. A scheduler that goes away (or cannot be reached):
 MtlxError, one line naming it; the caller has written nothing yet (the client alone writes goldens, images and
 results, and only once every task is in).
@@ -82,7 +84,9 @@ def connect(address):
     import distributed
     _quiet()
     cluster = None
-    settings = {"distributed.scheduler.allowed-failures": 1, "distributed.comm.timeouts.connect": "%ds" %
+    # worker-saturation 1.0: a worker holds only the task it runs (the scheduler queues the rest), so a task that kills
+    # its worker takes no queued bystander's allowed failure with it
+    settings = {"distributed.scheduler.allowed-failures": 1, "distributed.scheduler.worker-saturation": 1.0, "distributed.comm.timeouts.connect": "%ds" %
                 CONNECT_TIMEOUT, "distributed.worker.daemon": False, "distributed.admin.tick.limit": "1h",
                 "distributed.worker.multiprocessing-method": "spawn",      # never a process holding a GL context
                 "distributed.client.heartbeat": "1s"}
@@ -190,21 +194,46 @@ def _check_workers(client, address, want):
 
 # ---------------------------------------------------------------- running the tasks
 
-def in_cwd(run, cwd, job, library_dirs, strict, options, post, post_args):
-    """run(job, ...) (batch.run_job) in the client's working directory (a task: relative paths read, and are
-    named, as there)."""
+def in_cwd(run, cwd, jobs, library_dirs, strict, options, post, post_args):
+    """[run(job, ...) for each of `jobs`] (batch.run_job) in the client's working directory (a task: relative
+    paths read, and are named, as there); post_args: one per job."""
     if os.getcwd() != cwd:
         os.chdir(cwd)
-    return run(job, library_dirs, strict, options, post, post_args)
+    return [run(job, library_dirs, strict, options, post, args) for job, args in zip(jobs, post_args)]
+
+
+TASKS_PER_THREAD = 4        # tasks a worker thread gets at least (balance), before they grow up to batch.CHUNK
+
+
+def groups_of(tasks, threads, chunk):
+    """Consecutive task indices grouped into cluster tasks of about E / (threads * TASKS_PER_THREAD) elements, at
+    most `chunk` (E: the elements of all tasks). A cluster task costs the scheduler and the comms a few ms: one per
+    cheap element was twice the process pool's time; grouped, the balance stays and the cost is spread."""
+    sizes = [len(t.elements) or 1 for t in tasks]
+    want = max(1, min(chunk, sum(sizes) // max(1, threads * TASKS_PER_THREAD)))
+    out, group, n = [], [], 0
+    for i, size in enumerate(sizes):
+        if group and n + size > want:
+            out.append(tuple(group))
+            group, n = [], 0
+        group.append(i)
+        n += size
+    if group:
+        out.append(tuple(group))
+    return out
 
 
 def run_tasks(address, tasks, done, bar, run, failed, library_dirs=(), strict=False, options=None, post=None,
-              args_of=None):
+              args_of=None, chunk=32):
     """Run batch jobs `tasks` on the cluster at `address`; done(i, [Item]) for each as it comes in (in any
     order; every task once). bar: the batch.Progress (its `running` is kept up to date). run: the per-job
     function (batch.run_job, sent by reference); failed(job, element, error): the Items of a job (or of its one
     element) that could not run, error an exception or a sentence. (Both handed in by batch, which imports this
-    module: nothing here imports batch.)"""
+    module: nothing here imports batch.) chunk: the most elements of one cluster task (groups_of).
+
+    A cluster task that kills its worker (Dask's KilledWorker: it was retried as the scheduler allows) is run again
+    split: a group job by job, a job element by element; the element that kills its worker alone is that element's
+    failure."""
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
     files = [t.path for t in tasks] + [t.settings.environment for t in tasks]
@@ -214,47 +243,55 @@ def run_tasks(address, tasks, done, bar, run, failed, library_dirs=(), strict=Fa
     with connect(address) as client:
         _check_workers(client, address, want)
 
-        def submit(job):
-            key = "mtlxgen-%s-%s" % (os.path.basename(job.path)[:40], hashlib.sha1(repr(job).encode(
+        def submit(jobs):
+            key = "mtlxgen-%s-%s" % (os.path.basename(jobs[0].path)[:40], hashlib.sha1(repr(jobs).encode(
                 "utf-8", "surrogatepass")).hexdigest()[:12])
-            return client.submit(in_cwd, run, cwd, job, tuple(library_dirs), strict, options, post, args_of(job),
-                                 key=key, pure=False, retries=0)
+            return client.submit(in_cwd, run, cwd, tuple(jobs), tuple(library_dirs), strict, options, post,
+                                 tuple(args_of(job) for job in jobs), key=key, pure=False, retries=0)
 
-        futures = {}
-        for i, task in enumerate(tasks):
-            futures[submit(task)] = (i, None)
+        futures = {}                # future -> (task indices, element): element None, or the one of a split job
+        threads = sum(client.nthreads().values()) or 1
+        for group in groups_of(tasks, threads, chunk):
+            futures[submit([tasks[i] for i in group])] = (group, None)
         parts = {}                  # task index -> {element: [Item]} of a split chunk, until all its parts are in
-        ac = as_completed(list(futures), loop=client.loop)
+        # with_results: the results are gathered as they finish, in the background (a result() per task is a round
+        # trip of its own); raise_errors=False: a failed task's exception
+        ac = as_completed(list(futures), loop=client.loop, with_results=True, raise_errors=False)
         last = 0.0
+
+        def resubmit(jobs, where):
+            fut = submit(jobs)
+            futures[fut] = where
+            ac.add(fut)
+
         try:
-            for fut in ac:
-                i, element = futures.pop(fut)
-                task = tasks[i]
+            for fut, result in ac:
+                group, element = futures.pop(fut)
                 if fut.status == "finished":
-                    items = fut.result()
+                    outcome = list(zip(group, result))
                 elif fut.status == "cancelled" or client.status not in ("running", "connecting"):
                     raise _lost(address, "lost the Dask scheduler")
                 else:
-                    e = fut.exception()
+                    e = result if isinstance(result, BaseException) else fut.exception()
+                    task = tasks[group[0]]
+                    if isinstance(e, KilledWorker) and len(group) > 1:
+                        for i in group:                 # each job alone, then each element alone
+                            resubmit([tasks[i]], ((i,), None))
+                        fut.release()
+                        continue
                     if isinstance(e, KilledWorker) and element is None and len(task.elements) > 1:
-                        parts[i] = {}
+                        parts[group[0]] = {}
                         for el in task.elements:        # each alone: the one that kills its workers is found
-                            alone = submit(dataclasses.replace(task, elements=(el,)))
-                            futures[alone] = (i, el)
-                            ac.add(alone)
+                            resubmit([dataclasses.replace(task, elements=(el,))], (group, el))
+                        fut.release()
                         continue
                     if isinstance(e, KilledWorker):
                         why = ("drawing it killed the worker process, and again where it was run once more (Dask "
                                "KilledWorker); not drawn")
-                        items = failed(task, element, why)
+                        outcome = [(i, failed(tasks[i], element, why)) for i in group]
                     else:
-                        items = failed(task, element, e)
+                        outcome = [(i, failed(tasks[i], element, e)) for i in group]
                 fut.release()
-                if element is not None:
-                    parts[i][element] = items
-                    if len(parts[i]) < len(task.elements):
-                        continue
-                    items = [it for el in task.elements for it in parts.pop(i)[el]]
                 now = time.perf_counter()
                 if now - last > RUNNING_EVERY:
                     last = now
@@ -264,7 +301,13 @@ def run_tasks(address, tasks, done, bar, run, failed, library_dirs=(), strict=Fa
                                           for w, keys in client.processing().items())
                     except Exception:
                         bar.running = len(futures)
-                done(i, items)
+                for i, items in outcome:
+                    if element is not None:
+                        parts[i][element] = items
+                        if len(parts[i]) < len(tasks[i].elements):
+                            continue
+                        items = [it for el in tasks[i].elements for it in parts.pop(i)[el]]
+                    done(i, items)
         except (OSError, TimeoutError) as e:
             raise _lost(address, "lost the Dask scheduler (%s)" % _why(e)) from None
         except Exception as e:

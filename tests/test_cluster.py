@@ -179,7 +179,11 @@ def crash_on_third(item, _):
         os._exit(17)
 
 
-def test_a_render_that_kills_its_worker_twice_is_that_elements_failure(project):
+@pytest.mark.parametrize("per_thread", [cluster.TASKS_PER_THREAD, 1], ids=["one-job-tasks", "grouped-tasks"])
+def test_a_render_that_kills_its_worker_twice_is_that_elements_failure(project, per_thread, monkeypatch):
+    """Found alone however it was sent: grouped with other documents' jobs (1 task a thread: two jobs a task), the
+    group is split job by job first."""
+    monkeypatch.setattr(cluster, "TASKS_PER_THREAD", per_thread)
     docs = sorted(os.path.join(root, f) for root, _, fs in os.walk(str(project / "lib")) for f in fs
                   if f.endswith(".mtlx"))[:4]
     jobs = [batch.Job(p, (), batch.RenderSettings(size=SIZE)) for p in docs]
@@ -189,6 +193,16 @@ def test_a_render_that_kills_its_worker_twice_is_that_elements_failure(project):
     assert not bad.ok and len(bad.error) == 1, bad.error
     assert bad.error[0].startswith(docs[2] + ":0: M_00002: ") and "KilledWorker" in bad.error[0]
     assert all(it.ok and not it.error for it in items[:2] + items[3:])
+
+
+def test_tasks_group_consecutive_jobs_up_to_the_chunk_and_every_thread_gets_several():
+    jobs = [batch.Job("d%d.mtlx" % i, ("a",) * n) for i, n in enumerate([1] * 100 + [16, 3])]
+    groups = cluster.groups_of(jobs, threads=2, chunk=16)
+    assert [i for g in groups for i in g] == list(range(102))          # every job once, in order
+    assert all(sum(len(jobs[i].elements) for i in g) <= 16 or len(g) == 1 for g in groups)
+    assert max(len(g) for g in groups) == 14                             # 119 elements // (2 threads * 4)
+    assert len(cluster.groups_of(jobs[:6], threads=2, chunk=16)) == 6     # few elements: one job a task
+    assert cluster.groups_of([], threads=2, chunk=16) == []
 
 
 def test_a_worker_that_cannot_read_an_input_refuses_the_run(tmp_path):
