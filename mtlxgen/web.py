@@ -181,13 +181,24 @@ def page_data(shader, environment, size, samples):
     m = shader.manifest
     if m.get("target") != "essl":
         raise ValueError("the web page draws essl shaders (generate with target='essl')")
-    return {
+    data = {
         "element": shader.element, "stem": shader.stem, "vertex": shader.vertex,
         "fragment": shader.fragment,
         "uniforms": m.get("uniforms", []), "application": m.get("application", []),
         "size": int(size), "samples": int(samples), "camera": camera_payload(), "environment": environment,
         "geometry": geometry_payload(m.get("attributes", {})), "textures": texture_payload(m),
     }
+    if m.get("environment") == "prefiltered":
+        data["prefilter"] = prefilter_payload()
+    return data
+
+
+def prefilter_payload():
+    """What the page's prefilter pass runs (web_assets/prefilter.js; environment.Prefilter's recipe): the
+    prefilter shaders in GLSL ES 3.00 and the GGX samples per texel."""
+    from .environment import PREFILTER_SAMPLES, prefilter_sources
+    vertex, fragment = prefilter_sources("essl")
+    return {"vertex": vertex, "fragment": fragment, "samples": int(PREFILTER_SAMPLES)}
 
 
 def _asset(name):
@@ -205,13 +216,18 @@ def page_html(data):
     """The page: the element's name as HTML text (escape.html_text), the data as JSON safe inside its <script>
     element (escape.json_in_script), the viewer inlined."""
     return fill(_asset("page.html"), {"TITLE": html_text(data["element"]), "SIZE": str(int(data["size"])),
-                                      "DATA": json_in_script(data), "VIEWER": _viewer_script()})
+                                      "DATA": json_in_script(data),
+                                      "VIEWER": _viewer_script("prefilter" in data)})
 
 
-def _viewer_script():
+PREFILTER_MARK = "    /*PREFILTER*/\n"     # viewer.js's line where a prefiltered page's pass goes (else nothing)
+
+
+def _viewer_script(prefilter=False):
     """viewer.js as the text of an inline <script>: our own file, checked to hold nothing that ends the
-    element or opens an HTML comment."""
-    text = _asset("viewer.js")
+    element or opens an HTML comment. prefilter: with web_assets/prefilter.js at its mark (pages of
+    prefiltered shaders); else the mark's line is dropped (fis pages hold no prefilter code)."""
+    text = _asset("viewer.js").replace(PREFILTER_MARK, _asset("prefilter.js") if prefilter else "")
     if re.search(r"</script|<!--", text, re.I):
         raise RuntimeError("web_assets/viewer.js holds '</script' or '<!--', which would end its inline script")
     return text

@@ -65,6 +65,57 @@ def test_web_page_draws_what_render_draws(browser, renderer, tmp_path, case):
     opened.page.context.close()
 
 
+PREFILTERED = [c for c in CASES if c[0] in ("standard_surface", "open_pbr_surface")]
+
+
+@pytest.mark.parametrize("case", PREFILTERED, ids=[c[0] for c in PREFILTERED])
+def test_prefiltered_page_draws_what_render_draws(browser, renderer, tmp_path, case):
+    """--environment prefiltered: the page GGX-prefilters the map on the GPU (environment.Prefilter's recipe,
+    web_assets/prefilter.js) and draws what render draws with its prefiltered map, at the fis pages' line."""
+    name, doc, element = case
+    page_path = write_page(tmp_path, doc, element, "--environment", "prefiltered")
+    html = page_path.read_text(encoding="utf-8")
+    assert "prefilterRadiance" in html and "mg_env_prefilter_texel" in html
+    opened, refused = open_offline(browser, page_path)
+    assert refused == [], "the page asked for %s" % refused
+    assert not [m for m in opened.console if "box-filtered" in m], opened.console
+    shader = pipeline.generate(_path(doc), [element], environment="prefiltered")[0]
+    want = images.to_srgb8(renderer.render(shader))
+    got = opened.pixels()
+    assert_parity("web prefiltered %s" % name, got, want)
+    opened.page.context.close()
+
+
+def test_prefiltered_page_without_the_pass_is_off(browser, renderer, tmp_path):
+    """The control for the test above: the same page binding the box chain (no prefilter pass) is visibly off
+    render's prefiltered picture of standard_surface, so parity there says the pass ran as render's does."""
+    from webpages import OVER_FRACTION, parity
+    doc, element = "examples/quick_start.mtlx", "M_tiles"
+    shader = pipeline.generate(_path(doc), [element], environment="prefiltered", target="essl")[0]
+    data = web.page_data(shader, web.environment_payload(), SIZE, SAMPLES)
+    del data["prefilter"]
+    page_path = tmp_path / "box.html"
+    page_path.write_text(web.page_html(data), encoding="utf-8")
+    opened, _ = open_offline(browser, page_path)
+    got = opened.pixels()
+    opened.page.context.close()
+    want = images.to_srgb8(renderer.render(pipeline.generate(_path(doc), [element], environment="prefiltered")[0]))
+    mean, over = parity(got, want)
+    assert over > 2 * OVER_FRACTION, (mean, over)
+
+
+def test_fis_page_holds_no_prefilter_code(tmp_path):
+    """Only pages of prefiltered shaders carry the prefilter pass; a fis page's viewer is viewer.js as it is."""
+    fis = write_page(tmp_path / "fis", "examples/quick_start.mtlx", "M_tiles").read_text(encoding="utf-8")
+    pre = write_page(tmp_path / "pre", "examples/quick_start.mtlx", "M_tiles", "--environment", "prefiltered")
+    pre = pre.read_text(encoding="utf-8")
+    assert "prefilterRadiance" not in fis and "/*PREFILTER*/" not in fis and '"prefilter"' not in fis
+    with open(os.path.join(ROOT, "mtlxgen", "web_assets", "viewer.js"), encoding="utf-8") as f:
+        viewer = f.read()
+    assert viewer.replace(web.PREFILTER_MARK, "") in fis
+    assert "prefilterRadiance" in pre and '"prefilter"' in pre
+
+
 UNLIT = [("examples/unlit_checker.mtlx", "M_checker"),
          ("tests/data/targets/struct_uniform.mtlx", "out")]      # a uniform of the document's own struct type
 

@@ -236,6 +236,7 @@
 
     // texture units as render binds them: the environment, its irradiance, then the material's samplers
     units.push(["u_envRadiance", makeTexture(data.environment.radiance)]);
+    /*PREFILTER*/
     units.push(["u_envIrradiance", makeTexture(data.environment.irradiance)]);
     var images = data.textures.images.map(function (img) { return makeTexture(img); });
     Object.keys(data.textures.samplers).sort().forEach(function (name) {
