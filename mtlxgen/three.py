@@ -208,12 +208,36 @@ def module_text(shader, textures):
         "}",
         "",
         "export default createMaterial;",
-        ""])
+        ""] + (_prefilter_lines() if m.get("environment") == "prefiltered" else []))
+
+
+def _prefilter_lines():
+    """A prefiltered element's module: the prefilter pass (environment.prefilter_sources("essl"), GGX samples per
+    texel) and prefilterEnvironment(THREE, renderer, environment), which the material's environment goes through
+    before setEnvironment (runtime prefilterEnvironment: render's environment.Prefilter recipe)."""
+    from .web import prefilter_payload
+    return ["// the GGX-prefiltered environment this material's method reads (manifest environment: prefiltered)",
+            "export const prefilter = %s;" % _js(prefilter_payload()),
+            "",
+            "export function prefilterEnvironment(THREE, renderer, environment) {",
+            "  return runtime.prefilterEnvironment(THREE, renderer, environment, prefilter);",
+            "}",
+            ""]
+
+
+ENV_LINE = "  const environment = element.createEnvironment(THREE, sky);\n"
+PREFILTERED_ENV_LINE = ("  const environment = element.prefilterEnvironment(THREE, renderer, "
+                        "element.createEnvironment(THREE, sky));\n")
 
 
 def example_html(shader, size, samples):
+    """The example page; a prefiltered element's prefilters the environment first (other pages are as before)."""
     with open(os.path.join(ASSETS, "three_example.html"), encoding="utf-8") as f:
         text = f.read()
+    if shader.manifest.get("environment") == "prefiltered":
+        if ENV_LINE not in text:
+            raise RuntimeError("web_assets/three_example.html lost its environment line")
+        text = text.replace(ENV_LINE, PREFILTERED_ENV_LINE)
     return fill(text, {"TITLE": html_text(shader.element), "MODULE": js_string("./%s.js" % shader.stem),
                        "SIZE": str(int(size)), "SAMPLES": str(int(samples)), "ENVIRONMENT": js_string(ENVIRONMENT)})
 

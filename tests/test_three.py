@@ -14,7 +14,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from mtlxgen import cli, images, pipeline, render
+from mtlxgen import cli, images, pipeline, render, three
 from webpages import CASES, SAMPLES, SIZE, Server, assert_parity, browser, npm_three, open_page  # noqa: F401
 from webpages import path as _path
 
@@ -31,9 +31,9 @@ def renderer():
         yield r
 
 
-def write_module(out, doc, element, three=None):
+def write_module(out, doc, element, three=None, *extra):
     rc = cli.main(["three", _path(doc), "-o", str(out), "--element", element, "--size", str(SIZE),
-                   "--samples", str(SAMPLES)])
+                   "--samples", str(SAMPLES)] + list(extra))
     assert rc == 0
     if three:
         os.symlink(three, out / "three")
@@ -64,6 +64,41 @@ def test_three_example_draws_what_render_draws(browser, three_dir, renderer, tmp
     shader = pipeline.generate(_path(doc), [element])[0]
     want = images.to_srgb8(renderer.render(shader))
     assert_parity("three %s" % name, got, want)
+
+
+def test_three_prefiltered_draws_what_render_draws(browser, three_dir, renderer, tmp_path):
+    """--environment prefiltered: the example page passes the environment through the module's
+    prefilterEnvironment (render's environment.Prefilter recipe on three's renderer) and draws what render draws
+    with its prefiltered map, at the fis pages' line."""
+    doc, element = "examples/quick_start.mtlx", "M_tiles"
+    stem = write_module(tmp_path, doc, element, three_dir, "--environment", "prefiltered")
+    module = (tmp_path / (stem + ".js")).read_text(encoding="utf-8")
+    assert "export const prefilter = " in module and "mg_env_prefilter_texel" in module
+    assert "element.prefilterEnvironment(THREE, renderer" in (tmp_path / (stem + ".html")).read_text(encoding="utf-8")
+    server = Server(tmp_path)
+    try:
+        opened = open_page(browser, server.url(stem + ".html"))
+        got = opened.pixels()
+        bound = opened.page.evaluate("""() => { const t = window.mtlxgen.material.uniforms.u_envRadiance.value;
+            return [t.mipmaps.length, t.wrapS, t.wrapT, t.minFilter]; }""")
+        assert not [m for m in opened.console if "box-filtered" in m], opened.console
+        opened.page.context.close()
+    finally:
+        server.close()
+    assert bound == [10, 1000, 1001, 1008], bound      # 512 x 256: 10 levels; repeat u, clamp v, trilinear
+    shader = pipeline.generate(_path(doc), [element], environment="prefiltered")[0]
+    want = images.to_srgb8(renderer.render(shader))
+    assert_parity("three prefiltered %s" % element, got, want)
+
+
+def test_three_fis_module_and_page_hold_no_prefilter(tmp_path):
+    stem = write_module(tmp_path, "examples/quick_start.mtlx", "M_tiles")
+    module = (tmp_path / (stem + ".js")).read_text(encoding="utf-8")
+    assert "export const prefilter" not in module and "mg_env_prefilter_texel" not in module
+    with open(os.path.join(os.path.dirname(three.__file__), "web_assets", "three_example.html"), encoding="utf-8") as f:
+        template = f.read()
+    page = (tmp_path / (stem + ".html")).read_text(encoding="utf-8")
+    assert three.ENV_LINE in template and three.ENV_LINE in page and "prefilterEnvironment" not in page
 
 
 @pytest.mark.parametrize("doc, element", [("examples/unlit_checker.mtlx", "M_checker"),

@@ -351,6 +351,75 @@ export function createEnvironment(THREE, source, options = {}) {
   return { radiance, irradiance, mips: Math.floor(Math.log2(Math.max(width, height))) + 1 };
 }
 
+// The environment with its radiance GGX-prefiltered per mip level, for materials of the prefiltered method
+// (manifest "environment": "prefiltered"; the recipe is the manifest's u_envRadiance "prefilter", carried out as
+// render's environment.Prefilter does): each level drawn by the prefilter shaders (a module's `prefilter`:
+// {vertex, fragment, samples}, GLSL ES 3.00) from the box chain into a float target of the level's size, read
+// back into the new texture's level (linear-mipmap-linear, repeat in u, clamp to edge in v). Without
+// EXT_color_buffer_float the environment comes back as it is (the box chain) with a console warning.
+export function prefilterEnvironment(THREE, renderer, environment, prefilter) {
+  if (!renderer.extensions.has("EXT_color_buffer_float")) {
+    console.warn("mtlxgen: no EXT_color_buffer_float: the environment is box-filtered, not GGX-prefiltered");
+    return environment;
+  }
+  const radiance = environment.radiance, width = radiance.image.width, height = radiance.image.height;
+  const sizes = [[width, height]];
+  while (sizes[sizes.length - 1][0] > 1 || sizes[sizes.length - 1][1] > 1) {
+    const [w, h] = sizes[sizes.length - 1];
+    sizes.push([Math.max(1, w >> 1), Math.max(1, h >> 1)]);
+  }
+  const source = radiance.clone();          // read clamped in v, as render's pass reads it (the poles never blend)
+  source.wrapT = THREE.ClampToEdgeWrapping;
+  source.needsUpdate = true;
+  const strip = (text) => text.replace(/^#version[^\n]*\n/, "");
+  const material = new THREE.RawShaderMaterial({
+    glslVersion: THREE.GLSL3, vertexShader: strip(prefilter.vertex), fragmentShader: strip(prefilter.fragment),
+    uniforms: { u_source: { value: source }, u_sourceMips: { value: sizes.length }, u_level: { value: 0 },
+                u_samples: { value: prefilter.samples } },
+    depthTest: false, depthWrite: false,
+  });
+  const triangle = new THREE.BufferGeometry();        // three vertices; the shader places them by gl_VertexID
+  triangle.setAttribute("position", new THREE.BufferAttribute(new Float32Array(9), 3));
+  const mesh = new THREE.Mesh(triangle, material);
+  mesh.frustumCulled = false;
+  const scene = new THREE.Scene();
+  scene.add(mesh);
+  const camera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
+  const previous = renderer.getRenderTarget();
+  const half = radiance.type === THREE.HalfFloatType;
+  const levels = [];
+  for (let level = 0; level < sizes.length; level++) {
+    const [w, h] = sizes[level];
+    const target = new THREE.WebGLRenderTarget(w, h, {
+      type: THREE.FloatType, format: THREE.RGBAFormat, depthBuffer: false, stencilBuffer: false,
+      minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter, generateMipmaps: false,
+    });
+    material.uniforms.u_level.value = level;
+    renderer.setRenderTarget(target);
+    renderer.render(scene, camera);
+    const pixels = new Float32Array(w * h * 4);      // rows as the level's: row 0 is v = 0, the map's top
+    renderer.readRenderTargetPixels(target, 0, 0, w, h, pixels);
+    target.dispose();
+    levels.push({ data: half ? Uint16Array.from(pixels, (f) => THREE.DataUtils.toHalfFloat(f)) : pixels,
+                  width: w, height: h });
+  }
+  renderer.setRenderTarget(previous);
+  triangle.dispose();
+  material.dispose();
+  source.dispose();
+  const out = new THREE.DataTexture(levels[0].data, width, height, THREE.RGBAFormat, radiance.type);
+  out.mipmaps = levels;
+  out.generateMipmaps = false;
+  out.minFilter = THREE.LinearMipmapLinearFilter;
+  out.magFilter = THREE.LinearFilter;
+  out.wrapS = THREE.RepeatWrapping;
+  out.wrapT = THREE.ClampToEdgeWrapping;
+  out.flipY = false;
+  out.colorSpace = THREE.NoColorSpace;
+  out.needsUpdate = true;
+  return { ...environment, radiance: out, prefiltered: true };
+}
+
 // Bind an environment (createEnvironment's) to a material: u_envRadiance, u_envIrradiance,
 // u_envRadianceMips; options.envSamples (u_envRadianceSamples, default 64 as render), options.envIntensity
 // (u_envLightIntensity, default 1), options.envMatrix (u_envMatrix, a THREE.Matrix4; default diag(-1, 1, -1, 1)).
