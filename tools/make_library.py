@@ -76,21 +76,25 @@ def _image(name, tex, kind="color3"):
             % (name, kind, tex))
 
 
+def _base_textured(kind, srf, rng, tex, textured, floats):
+    """A `kind` surface whose base_color is the texture `tex` (textured) or a random colour, and whose float
+    inputs `floats` ((name, low, high) each) are random: the image node (where textured) and the surface."""
+    body = _image("base_tex", tex) if textured else ""
+    base = ('<input name="base_color" type="color3" nodename="base_tex" />' if textured else
+            '<input name="base_color" type="color3" value="%s" />' % _c3(rng))
+    body += '  <%s name="%s" type="surfaceshader">\n    %s\n' % (kind, srf, base)
+    for name, lo, hi in floats:
+        body += '    <input name="%s" type="float" value="%s" />\n' % (name, _f(rng, lo, hi))
+    return body + "  </%s>\n" % kind
+
+
 def material(kind, i, rng, tex):
     """The body of material i's document (between <materialx> and </materialx>) and its material's name."""
     m = "M_%05d" % i
     srf = "SR_%05d" % i
     if kind == "standard_surface":
-        textured = i % 3 == 0
-        body = _image("base_tex", tex) if textured else ""
-        base = ('<input name="base_color" type="color3" nodename="base_tex" />' if textured else
-                '<input name="base_color" type="color3" value="%s" />' % _c3(rng))
-        body += ('  <standard_surface name="%s" type="surfaceshader">\n    %s\n'
-                 '    <input name="metalness" type="float" value="%s" />\n'
-                 '    <input name="specular_roughness" type="float" value="%s" />\n'
-                 '    <input name="coat" type="float" value="%s" />\n'
-                 '    <input name="sheen" type="float" value="%s" />\n  </standard_surface>\n'
-                 % (srf, base, _f(rng), _f(rng, 0.05, 0.9), _f(rng, 0, 0.6), _f(rng, 0, 0.5)))
+        floats = (("metalness", 0, 1), ("specular_roughness", 0.05, 0.9), ("coat", 0, 0.6), ("sheen", 0, 0.5))
+        body = _base_textured(kind, srf, rng, tex, i % 3 == 0, floats)
     elif kind == "open_pbr_surface":
         body = ('  <open_pbr_surface name="%s" type="surfaceshader">\n'
                 '    <input name="base_color" type="color3" value="%s" />\n'
@@ -100,14 +104,7 @@ def material(kind, i, rng, tex):
                 '    <input name="fuzz_weight" type="float" value="%s" />\n  </open_pbr_surface>\n'
                 % (srf, _c3(rng), _f(rng), _f(rng, 0.05, 0.9), _f(rng, 0, 0.7), _f(rng, 0, 0.4)))
     elif kind == "gltf_pbr":
-        textured = i % 2 == 0
-        body = _image("base_tex", tex) if textured else ""
-        base = ('<input name="base_color" type="color3" nodename="base_tex" />' if textured else
-                '<input name="base_color" type="color3" value="%s" />' % _c3(rng))
-        body += ('  <gltf_pbr name="%s" type="surfaceshader">\n    %s\n'
-                 '    <input name="metallic" type="float" value="%s" />\n'
-                 '    <input name="roughness" type="float" value="%s" />\n  </gltf_pbr>\n'
-                 % (srf, base, _f(rng), _f(rng, 0.05, 0.9)))
+        body = _base_textured(kind, srf, rng, tex, i % 2 == 0, (("metallic", 0, 1), ("roughness", 0.05, 0.9)))
     elif kind == "UsdPreviewSurface":
         textured = i % 2 == 0
         body = ('  <UsdUVTexture name="diffuse_tex" type="multioutput">\n'
