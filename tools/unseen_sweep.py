@@ -36,13 +36,12 @@ CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
 
 import numpy as np  # noqa: E402
 
-from mtlxgen import compare, images, pipeline  # noqa: E402
+from mtlxgen import USD_EXTENSIONS, compare, images, is_usd, pipeline  # noqa: E402
 from mtlxgen.diagnostics import MtlxError  # noqa: E402
 from mtlxgen.reference import MaterialXReference  # noqa: E402
 from mtlxgen.render import Renderer  # noqa: E402
 
 
-USD_EXTENSIONS = (".usda", ".usdc", ".usd", ".usdz")
 KNOWN = [os.path.join(ROOT, "..", "shared", "corpus"), os.path.join(ROOT, "..", "shared", "seeds")]
 
 
@@ -142,7 +141,7 @@ class Sweep:
     def document(self, path, report=None):
         """(rows, note): one row per element MaterialX finds renderable; note says why there are none.
         report(row) is called as each row is done."""
-        if path.lower().endswith(USD_EXTENSIONS):
+        if is_usd(path):
             return self.stage(path, report)
         try:
             doc = self.ref.load(path)
@@ -220,7 +219,7 @@ def table(results, base):
     lines = ["| document | elements | MaterialX generates | generated | compiled | parity |",
              "|---|---|---|---|---|---|"]
     tot = [0] * 5
-    results = [r for r in results if not r[0].lower().endswith(USD_EXTENSIONS)]
+    results = [r for r in results if not is_usd(r[0])]
     for path, rows, note in results:
         n = _counts(rows)
         tot = [a + b for a, b in zip(tot, n)]
@@ -240,7 +239,7 @@ def source_table(results, base, depth):
     generates, generated, compiled, parity; .mtlx documents only."""
     groups = {}
     for path, rows, _ in results:
-        if path.lower().endswith(USD_EXTENSIONS):
+        if is_usd(path):
             continue
         g = groups.setdefault(source_of(path, base, depth), [0] * 6)
         for i, v in enumerate([1] + _counts(rows)):
@@ -255,7 +254,7 @@ def source_table(results, base, depth):
 
 def usd_table(results, base):
     """Stages: materials found, generated, compiled."""
-    stages = [(p, rows) for p, rows, _ in results if p.lower().endswith(USD_EXTENSIONS)]
+    stages = [(p, rows) for p, rows, _ in results if is_usd(p)]
     lines = ["| stage | materials | generated | compiled |", "|---|---|---|---|"]
     tot = [0, 0, 0]
     for path, rows in stages:
