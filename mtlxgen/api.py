@@ -227,13 +227,18 @@ def _elements(element) -> Optional[list]:
     return list(element)
 
 
-def _warn(items, stacklevel):
-    lines = Warnings()
-    lines.extend(items)
-    out = lines.lines()
-    for line, item in zip(out, lines.items):
-        _warnings.warn(DocumentWarning(line, Problem(*item)), stacklevel=stacklevel + 1)
-    return out
+def _generate_all(source, element, target, interface, options, unreadable_textures="warning"):
+    """Shaders of every element asked for (generate_partial), each warning issued as a DocumentWarning at the public
+    call's caller; DocumentError where any element fails."""
+    found = Warnings()
+    shaders, error = generate_partial(source, _elements(element), target=target, interface=interface,
+                                      options=options, unreadable_textures=unreadable_textures, warnings=found)
+    lines = found.lines()
+    for line, item in zip(lines, found.items):      # stacklevel 3: the caller of generate or Session.*
+        _warnings.warn(DocumentWarning(line, Problem(*item)), stacklevel=3)
+    if error is not None:
+        raise error
+    return Shaders(shaders, lines)
 
 
 # ---------------------------------------------------------------- the public calls
@@ -253,13 +258,7 @@ def generate(source: Union[PathLike, str], element: Union[str, Iterable[str], No
     .json). Raises DocumentError with every problem of every element where any element fails (generate_partial
     gives the others too); warnings go through the `warnings` module as DocumentWarning and are in `.warnings`.
     A texture file that cannot be read is a warning (the shader is valid; its default colour is drawn)."""
-    found = Warnings()
-    shaders, error = generate_partial(source, _elements(element), target=target, interface=interface,
-                                      options=options, warnings=found)
-    lines = _warn(found.items, 2)
-    if error is not None:
-        raise error
-    return Shaders(shaders, lines)
+    return _generate_all(source, element, target, interface, options)
 
 
 def render(shader_or_source: Union[Shader, PathLike, str], element: Optional[str] = None, *, size: int = 256,
@@ -291,13 +290,7 @@ class Session:
 
     def generate(self, source: Union[PathLike, str], element: Union[str, Iterable[str], None] = None) -> Shaders:
         """generate(source, element) with this session's target, interface and options."""
-        found = Warnings()
-        shaders, error = generate_partial(source, _elements(element), target=self.target, interface=self.interface,
-                                          options=self.options, warnings=found)
-        lines = _warn(found.items, 2)
-        if error is not None:
-            raise error
-        return Shaders(shaders, lines)
+        return _generate_all(source, element, self.target, self.interface, self.options)
 
     def render(self, shader_or_source: Union[Shader, PathLike, str], element: Optional[str] = None, *,
                size: Optional[int] = None, environment=None, samples: Optional[int] = None):
@@ -306,14 +299,9 @@ class Session:
         if isinstance(shader_or_source, Shader):
             shader = shader_or_source
         else:
-            found = Warnings()
-            shaders, error = generate_partial(shader_or_source, _elements(element), target=self.target,
-                                              interface=self.interface, options=self.options,
-                                              unreadable_textures="error", warnings=found)
-            _warn(found.items, 2)
-            if error is not None:       # a picture of the wrong element, or of one missing a texture, is no answer
-                raise error
-            shader = shaders[0]
+            # a picture of the wrong element, or of one missing a texture, is no answer: unreadable textures raise
+            shader = _generate_all(shader_or_source, element, self.target, self.interface, self.options,
+                                   unreadable_textures="error")[0]
         renderer = self._renderer_for(size or self.size, environment if environment is not None else self.environment)
         renderer.env_samples = int(samples or self.samples)
         try:
