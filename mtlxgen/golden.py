@@ -30,6 +30,7 @@ from .batch import RenderSettings
 from .diagnostics import Loc, MtlxError
 from .files import MAX_BYTES, check_regular, is_inside, read_bounded, regular_file_problem, write_atomic
 from .images import read_image, to_srgb8, write_image
+from .report import _shown
 
 INDEX_NAME = "index.json"
 INDEX_VERSION = 1
@@ -192,11 +193,6 @@ def read_png8(path):
 
 MAX_SIZE = 8192            # as the command line's --size
 MAX_SAMPLES = 65536         # as web's --samples
-
-
-def _shown(value):
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def _plain_name(value):
