@@ -328,9 +328,7 @@ def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False
                 try:
                     items = fut.result()
                 except Exception as e:  # a worker died (GL crash, out of memory)
-                    path = tasks[i].path
-                    items = [Item(path, el, tasks[i].settings, error=error_lines(e, path, el))
-                             for el in (tasks[i].elements or ("",))]
+                    items = failed_items(tasks[i], "", e)
                 done(i, items)
     bar.running = 0
     bar.close()
