@@ -36,13 +36,8 @@ def mip_count(width, height):
 
 def builtin_sky(width=512, height=256):
     """Deterministic HDR lat-long sky (row 0 = top): horizon-to-zenith blue, warm ground, a sun disc."""
-    v = (np.arange(height) + 0.5) / height
-    u = (np.arange(width) + 0.5) / width
-    uu, vv = np.meshgrid(u, v)
-    elevation = (0.5 - vv) * np.pi
-    azimuth = (uu - 0.5) * 2.0 * np.pi
     # direction per the lat-long convention of interface.md: u = atan(x, -z) / 2pi + 0.5, v = -asin(y)/pi + 0.5
-    d = np.stack([np.cos(elevation) * np.sin(azimuth), np.sin(elevation), -np.cos(elevation) * np.cos(azimuth)], -1)
+    d, _ = _latlong_directions(width, height)
     up = np.clip(d[..., 1:2], 0.0, 1.0)
     zenith, horizon = np.array([0.18, 0.32, 0.85]), np.array([0.75, 0.82, 0.95])
     sky = horizon + (zenith - horizon) * np.sqrt(up)
@@ -76,11 +71,10 @@ def _downsample(img, width, height):
 
 def mip_chain(img):
     """[level 0, 1, ... 1x1] of an (h, w, c) float image, as OpenGL's glGenerateMipmap sizes them
-    (each dimension halved, rounded down, at least 1)."""
+    (level_sizes)."""
     levels = [np.ascontiguousarray(img, dtype=np.float32)]
-    while levels[-1].shape[0] > 1 or levels[-1].shape[1] > 1:
-        h, w = levels[-1].shape[:2]
-        levels.append(_downsample(levels[-1], max(1, w // 2), max(1, h // 2)))
+    for w, h in level_sizes(img.shape[1], img.shape[0])[1:]:
+        levels.append(_downsample(levels[-1], w, h))
     return levels
 
 
@@ -141,16 +135,20 @@ def irradiance_map(env, width=128, height=64):
     return np.clip(irr, 0.0, None).astype(np.float32)
 
 
+def _rgb(img):
+    """An (h, w, c) map as RGB: grey (and grey-and-alpha) as its grey, alpha dropped."""
+    if img.shape[2] <= 2:
+        return np.repeat(img[..., :1], 3, axis=2)
+    return img[..., :3] if img.shape[2] > 3 else img
+
+
 def load_environment(path, loc=None):
     """A lat-long environment file as float32 RGB (rows top first). Any regular image file within the size caps
     (images.py); one whose decoded floats would pass images.MAX_DECODED_BYTES (a 16384 x 8192 map) is box-filtered
     down by a power of two as it is read. Grey (and grey-and-alpha) maps light as their grey; texels that are
     not finite (NaN, infinite: no radiance) read as 0. Problems: one line at `loc` (default: the file)."""
     from .images import read_image
-    img = read_image(path, loc, "environment file", reduce=True)
-    if img.shape[2] <= 2:
-        img = np.repeat(img[..., :1], 3, axis=2)
-    img = img[..., :3] if img.shape[2] > 3 else img
+    img = _rgb(read_image(path, loc, "environment file", reduce=True))
     for r0 in range(0, img.shape[0], SH_BAND_ROWS):      # in place, a band of rows at a time
         band = img[r0:r0 + SH_BAND_ROWS]
         band[~np.isfinite(band)] = 0.0
@@ -180,9 +178,7 @@ def prepare(source=None, samples=ENV_SAMPLES, intensity=1.0, irradiance_size=IRR
         env = load_environment(source)
     else:
         env = np.asarray(source, dtype=np.float32)
-        if env.ndim == 2:
-            env = env[..., None]
-        env = np.repeat(env[..., :1], 3, axis=2) if env.shape[2] <= 2 else env[..., :3]
+        env = _rgb(env[..., None] if env.ndim == 2 else env)
     env = np.ascontiguousarray(env, dtype=np.float32)
     h, w = env.shape[:2]
     uniforms = {"u_envRadianceMips": mip_count(w, h), "u_envRadianceSamples": int(samples),
@@ -270,7 +266,7 @@ def level_alpha(level, width):
 
 def prefiltered_lod(alpha, width, mips):
     """The level the split-sum lookup reads for roughness alpha (glsl_lib mg_env_prefiltered_lod)."""
-    alpha1 = 2.0 * PREFILTER_TEXELS * 2.0 * np.pi / float(width)
+    alpha1 = level_alpha(1, width)
     lod = alpha / alpha1 if alpha < alpha1 else 1.0 + np.log2(alpha / alpha1)
     return float(np.clip(lod, 0.0, max(mips - 1, 0)))
 
