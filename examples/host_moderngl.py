@@ -6,7 +6,7 @@
 
 The document goes through mtlxgen's API (mtlxgen.generate); the environment through mtlxgen.environment. All the
 rest is this file's own GL: the mesh, the camera, the textures, and every uniform and attribute it binds, found by
-name in the shader's manifest (docs/interface.md). What it draws equals `mtlxgen render` (tests/test_host_example.py).
+name in the shader's manifest (docs/interface.md). What it draws equals `mtlxgen render` (tests/test_api.py).
 """
 import argparse
 import math
@@ -17,7 +17,6 @@ import numpy as np
 
 import mtlxgen
 from mtlxgen.environment import mip_chain, prepare
-
 
 
 def sphere(n_lon=128, n_lat=64):
@@ -101,7 +100,7 @@ def draw(ctx, shader, size, env_file=None):
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.clear(0.0, 0.0, 0.0, 0.0)
     vao.render()
-    return np.frombuffer(fbo.read(components=4, dtype="f4"), "f4").reshape(size, size, 4)[::-1], fbo
+    return np.frombuffer(fbo.read(components=4, dtype="f4"), "f4").reshape(size, size, 4)[::-1]
 
 
 def main():
@@ -119,7 +118,7 @@ def main():
         sys.exit(str(e))
     if args.headless:
         ctx = moderngl.create_standalone_context(require=400, backend="egl")
-        img, _ = draw(ctx, shader, args.size, args.env)
+        img = draw(ctx, shader, args.size, args.env)
         if args.out.endswith(".npy"):
             np.save(args.out, img)
         else:
@@ -134,7 +133,7 @@ def main():
     window = glfw.create_window(args.size, args.size, shader.name, None, None)
     glfw.make_context_current(window)
     ctx = moderngl.create_context()
-    img, _ = draw(ctx, shader, args.size, args.env)            # drawn once (the scene does not move), linear
+    img = draw(ctx, shader, args.size, args.env)            # drawn once (the scene does not move), linear
     from mtlxgen.images import to_srgb8
     shown = ctx.framebuffer([ctx.texture((args.size, args.size), 4, to_srgb8(img)[::-1].tobytes())])
     while not glfw.window_should_close(window):
