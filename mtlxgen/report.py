@@ -204,11 +204,11 @@ def load_results(out_dir):
         raise MtlxError((Loc(path, e.lineno), "not JSON: %s (column %d)" % (e.msg, e.colno))) from None
     except RecursionError:
         raise MtlxError((loc, "not JSON this report reads: nested too deeply")) from None
+    text = json.dumps(data, ensure_ascii=False)
     try:        # JSON may spell a lone UTF-16 surrogate (\ud800; golden check: a file name not in UTF-8):
-        json.dumps(data, ensure_ascii=False).encode("utf-8")
+        text.encode("utf-8")
     except UnicodeEncodeError:      # shown as U+FFFD, as a UTF-8 page can hold it
-        data = json.loads(json.dumps(data, ensure_ascii=False).encode("utf-8", "surrogatepass")
-                          .decode("utf-8", "replace"))
+        data = json.loads(text.encode("utf-8", "surrogatepass").decode("utf-8", "replace"))
     try:
         check_schema(data)
     except _Invalid as e:
