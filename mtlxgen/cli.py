@@ -811,23 +811,17 @@ def main(argv=None):
         except OSError:
             pass
         return 0
-    except ImportError as e:            # a dependency that is not installed: which package to install, one line
-        package = _missing_package(e)
-        if package is None:
-            if os.environ.get("MTLXGEN_DEBUG"):
-                raise
-            print("%s: internal error: %s: %s (set MTLXGEN_DEBUG=1 for details)"
-                  % (getattr(args, "file", "mtlxgen"), type(e).__name__, e), file=sys.stderr)
-            return 3
-        print("mtlxgen %s: error: the Python package %s is not installed (pip install %s)"
-              % (getattr(args, "command", ""), package, package), file=sys.stderr)
-        return 1
     except RecursionError:
         if os.environ.get("MTLXGEN_DEBUG"):
             raise
         print("%s: error: the document nests too deeply to process" % getattr(args, "file", "mtlxgen"), file=sys.stderr)
         return 1
     except Exception as e:     # a bug of ours: one line, the traceback only on request
+        package = _missing_package(e) if isinstance(e, ImportError) else None
+        if package is not None:         # a dependency that is not installed: which package to install, one line
+            print("mtlxgen %s: error: the Python package %s is not installed (pip install %s)"
+                  % (getattr(args, "command", ""), package, package), file=sys.stderr)
+            return 1
         if os.environ.get("MTLXGEN_DEBUG"):
             raise
         if isinstance(e, OSError) and e.filename:
