@@ -97,6 +97,15 @@ class GraphBuilder:
             self.recording.append(stem)
         return unique_identifier(stem, self.used_ids)
 
+    def add_node(self, stem, nd, inputs, loc, static=None):
+        """A node of nodedef `nd` added to the graph (in order) under a fresh id from `stem`; returns the id."""
+        ident = self.new_id(stem)
+        self.nodes[ident] = GNode(id=ident, category=nd.category, nodedef=nd, inputs=inputs,
+                                  outputs={o.name: o.type for o in nd.outputs.values()}, loc=loc,
+                                  static={} if static is None else static)
+        self.order.append(ident)
+        return ident
+
     def add_uniform(self, stem, type_name, value, loc, colorspace=None):
         name = self.new_id(stem)
         self.uniforms[name] = Uniform(name, type_name, value, loc, colorspace)
@@ -373,10 +382,7 @@ class GraphBuilder:
         nd = self.lib.nodedefs.get(colorspaces.nodedef_name(port.colorspace, src.type))
         if nd is None:          # a library without cmlib: as MaterialX, which then has no transform
             return src
-        ident = self.new_id(stem + "_cm")
-        self.nodes[ident] = GNode(id=ident, category=nd.category, nodedef=nd, inputs={"in": src},
-                                  outputs={o.name: o.type for o in nd.outputs.values()}, loc=port.loc)
-        self.order.append(ident)
+        ident = self.add_node(stem + "_cm", nd, {"in": src}, port.loc)
         return Source(src.type, node=ident, output="out", loc=port.loc)
 
     @staticmethod
@@ -424,11 +430,8 @@ class GraphBuilder:
         if nd is None:
             raise MtlxError((port.loc, "%s has type float but is connected to a value of type %s (no extract "
                                        "nodedef in the libraries to read its first component)" % (what, src.type)))
-        ident = self.new_id("%s_first" % (src.node or src.uniform or "value"))
-        self.nodes[ident] = GNode(id=ident, category=nd.category, nodedef=nd,
-                                  inputs={"in": src, "index": Source("integer", value=0, loc=port.loc)},
-                                  outputs={o.name: o.type for o in nd.outputs.values()}, loc=port.loc)
-        self.order.append(ident)
+        ident = self.add_node("%s_first" % (src.node or src.uniform or "value"), nd,
+                              {"in": src, "index": Source("integer", value=0, loc=port.loc)}, port.loc)
         return Source("float", node=ident, output="out", loc=port.loc)
 
     # ---------- nodes ----------
@@ -601,12 +604,9 @@ class GraphBuilder:
                 return self.expansion(node, nd, impl_graph, inputs, stem, scope)
             finally:
                 self.expanding.pop()
-        ident = self.new_id(stem)
-        g = GNode(id=ident, category=nd.category, nodedef=nd, inputs=inputs,
-                  outputs={o.name: o.type for o in nd.outputs.values()}, loc=node.loc, static=static)
-        self.nodes[ident] = g
-        self.order.append(ident)
-        return {oname: Source(t, node=ident, output=oname, loc=node.loc) for oname, t in g.outputs.items()}
+        ident = self.add_node(stem, nd, inputs, node.loc, static)
+        return {oname: Source(t, node=ident, output=oname, loc=node.loc)
+                for oname, t in self.nodes[ident].outputs.items()}
 
     # ---------- expansions kept per library ----------
     # A library nodegraph implementation (standard_surface's, open_pbr_surface's: 80-130 nodes) expanded at the top
