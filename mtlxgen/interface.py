@@ -8,6 +8,7 @@ programs binds ours; the defaults are what a shader draws with when the applicat
 A glsl_lib file that reads one names it in a `// uniforms: NAME ...` header line (emit.read_lib_file); a
 handler asks for one with Emitter.app_uniform; a stream's vertex expression lists the ones it needs.
 """
+import os
 from dataclasses import dataclass
 
 MAX_LIGHTS = 8          # u_lightData's length (MG_MAX_LIGHTS in the GLSL) where a shader is asked for lights
@@ -106,7 +107,6 @@ def relative_textures(manifest, folder):
     """`manifest` with each texture file that is an absolute path made relative to `folder` (where the manifest is
     written: a consumer joins the manifest's folder and the name). A file on another drive (Windows) stays absolute;
     a name that resolved to no file stays as the document wrote it."""
-    import os
     textures = manifest.get("textures")
     if not textures:
         return manifest
@@ -126,7 +126,6 @@ def relative_textures(manifest, folder):
 def absolute_textures(manifest, folder):
     """The inverse of relative_textures for a manifest read from `folder`: each relative texture file joined to it
     (what a host reading NAME.json does before opening the files)."""
-    import os
     textures = manifest.get("textures")
     if not textures:
         return manifest
