@@ -527,10 +527,8 @@ def _substitute_tokens(doc):
 def load(path, search_paths=(), source="document"):
     """Read and build a document from a .mtlx file."""
     from .upgrade import upgrade_tree       # each included document from its own version, as MaterialX reads it
-    read_slips = []         # slips of the XML itself (text before the declaration, after the root element)
+    read_slips = []     # slips of the XML itself and included documents' upgrade warnings (read_file's)
     root = read_file(path, search_paths, warnings=read_slips, upgrade=upgrade_tree)
-    if not read_slips:
-        return build(root, path, source)
     try:
         doc = build(root, path, source)
     except MtlxError as e:
