@@ -154,7 +154,8 @@ def parse_text(text, path, budget=None):
     budget.elements = elements
     slips = []
     try:
-        root = _parse(*_fragment(text, path, slips), budget, slips=slips)
+        fragment, declaration = _fragment(text, path, slips)
+        root = _parse(fragment, path, budget, slips=slips, declaration=declaration)
     except (_Malformed, MtlxError):
         root = None
     if root is None:            # not something MaterialX reads either: the first error, as the parser said it
@@ -175,10 +176,12 @@ _ANY_DECLARATION = re.compile(r"<\?xml\s[^>]*?\?>")
 
 
 def _fragment(text, path, slips):
-    """(text, path) read as pugixml reads a document: a declaration anywhere is dropped (blank lines or text
-    before it warned), and the top level held in one element, so that text and other elements before and
-    after the root element can be seen (and read past by _parse). Lines are kept: nothing adds a line break."""
+    """(text, the line of a declaration with something before it, else 0) read as pugixml reads a document: a
+    declaration anywhere is dropped (blank lines or text before it warned), and the top level held in one
+    element, so that text and other elements before and after the root element can be seen (and read past by
+    _parse). Lines are kept: nothing adds a line break."""
     m = _ANY_DECLARATION.search(text)
+    line = 0
     if m is not None and m.start() > 0:
         before = text[:m.start()]
         line = before.count("\n") + 1
@@ -186,15 +189,15 @@ def _fragment(text, path, slips):
                 if not before.strip() else "text %s" % files.quoted(before.strip()[:40]))
         slips.append((Loc(path, line), "the XML declaration is not at the start of the file (%s before it): "
                                        "read on, as MaterialX's reader does" % what))
-        slips.append(line)          # text before the declaration: said here, not again as text before the root
     if m is not None:
         text = text[:m.start()] + " " * (m.end() - m.start()) + text[m.end():]
-    return "<%s>%s</%s>" % (_FRAGMENT, text, _FRAGMENT), path
+    return "<%s>%s</%s>" % (_FRAGMENT, text, _FRAGMENT), line
 
 
-def _parse(text, path, budget, slips=None):
+def _parse(text, path, budget, slips=None, declaration=0):
     """Expat over `text`; slips is None for a well-formed document, else the list that receives what the
-    top level of a fragment (_fragment) holds besides the root element."""
+    top level of a fragment (_fragment) holds besides the root element (text before the declaration's
+    line: said by _fragment)."""
     parser = xml.parsers.expat.ParserCreate("UTF-8")     # decoded above: the declared encoding is overridden
     parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
     root_holder = []
@@ -256,24 +259,26 @@ def _parse(text, path, budget, slips=None):
     finally:
         budget.elements = MAX_ELEMENTS - room[0]
     if lenient:
-        return _top_level_root(top, slips)
+        return _top_level_root(top, slips, declaration)
     if not root_holder:
         raise MtlxError((Loc(path, 1), "empty document"))
     return root_holder[0]
 
 
-def _top_level_root(top, slips):
+def _top_level_root(top, slips, declaration):
     """The root element of a fragment's top level (its first <materialx>, as MaterialX takes it; else its first
-    element), each other thing at the top level a warning."""
-    declaration = slips.pop() if slips and isinstance(slips[-1], int) else 0
+    element), each other thing at the top level a warning (text before the line of the declaration aside)."""
     elements = [c for c in top.children if c.tag != "#text"]
     if not elements:
         raise MtlxError((top.loc, "empty document"))
     root = next((c for c in elements if c.tag == "materialx"), elements[0])
+    where = "before"
     for c in top.children:
-        if c is root or (c.tag == "#text" and c.loc.line < declaration):
+        if c is root:
+            where = "after"
             continue
-        where = "before" if top.children.index(c) < top.children.index(root) else "after"
+        if c.tag == "#text" and c.loc.line < declaration:
+            continue
         what = ("text %s" % files.quoted(c.attrs["text"][:40]) if c.tag == "#text" else "element <%s>" % c.tag)
         slips.append((c.loc, "%s %s the root element <%s>: ignored, as MaterialX's reader ignores it"
                              % (what, where, root.tag)))
