@@ -24,7 +24,7 @@ import re
 import numpy as np
 
 from .diagnostics import Loc, MtlxError
-from .environment import _downsample, mip_chain  # noqa: F401  (environment.py's recipe: what render's GL mips hold)
+from .environment import mip_chain  # environment.py's recipe: what render's GL mips hold
 from .escape import html_text, json_in_script
 
 ASSETS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web_assets")
