@@ -22,7 +22,7 @@ import numpy as np
 from .diagnostics import Loc, MtlxError
 # the environment recipe (mip chain, SH irradiance, the lat-long frame ENV_MATRIX, the sample count) is environment.py's,
 # shared with view, web, three and any host; these names stay here for render's callers
-from .environment import (ENV_MATRIX, ENV_SAMPLES, SH_BAND_ROWS, _latlong_directions, _sh9,  # noqa: F401
+from .environment import (ENV_MATRIX, ENV_SAMPLES, _latlong_directions, _sh9,  # noqa: F401
                           builtin_sky, irradiance_map, load_environment, mip_count, sh9_projection)
 from .files import check_regular
 from .glcontext import create_context  # noqa: F401  (render.create_context for callers)
