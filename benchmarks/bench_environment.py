@@ -21,7 +21,7 @@ def main(argv=None):
     ap.add_argument("--runs", type=int, default=5)
     args = ap.parse_args(argv)
     import numpy as np
-    from mtlxgen import pipeline, render
+    from mtlxgen import environment, pipeline, render
     from test_environment_prefilter import SEVEN
 
     def median_draw(r, prepared):
@@ -37,8 +37,8 @@ def main(argv=None):
         t0 = time.perf_counter()
         r.prefiltered_env()
         r.ctx.finish()
-        print("prefilter pass (512x256, %d samples a texel): %.0f ms" % (
-            __import__("mtlxgen.environment").environment.PREFILTER_SAMPLES, 1000 * (time.perf_counter() - t0)))
+        print("prefilter pass (%dx%d, %d samples a texel): %.0f ms" % (
+            *r.env.size, environment.PREFILTER_SAMPLES, 1000 * (time.perf_counter() - t0)))
         totals = [0.0, 0.0]
         for rel, el in SEVEN:
             path = os.path.join(ROOT, "examples", rel)
