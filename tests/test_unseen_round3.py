@@ -11,7 +11,7 @@ import pytest
 
 from conftest import ROOT
 from mtlxgen import compare, diagnostics, pipeline
-from util import assert_harness_parity, harness_render_ours
+from util import assert_harness_parity, build_graph, harness_render_ours, write_doc
 
 DATA = os.path.join(ROOT, "tests", "data", "unseen3")
 
@@ -148,7 +148,6 @@ def test_float_from_vector_is_at_parity_with_materialx(harness, cms_reference):
 
 def test_float_from_a_colour_value_reads_its_first_component(tmp_path):
     from mtlxgen import graph
-    from util import build_graph
     from mtlxgen.library import load_library
     body = ('<constant name="k" type="color3"><input name="value" type="color3" value="0.25, 0.5, 0.75" /></constant>'
             '<sin name="s" type="float"><input name="in" type="float" nodename="k" /></sin>'
@@ -202,7 +201,6 @@ def test_thin_film_over_a_graph_is_warned_at_the_layer():
 
 
 def test_thin_film_over_one_bsdf_is_no_warning(tmp_path):
-    from util import write_doc
     body = ('<thin_film_bsdf name="tf" type="BSDF"><input name="thickness" type="float" value="400" /></thin_film_bsdf>'
             '<dielectric_bsdf name="d" type="BSDF" />'
             '<layer name="b" type="BSDF"><input name="top" type="BSDF" nodename="tf" />'
@@ -284,9 +282,7 @@ def test_usd_output_no_definition_declares_stays_an_error(tmp_path):
 
 # ---------------------------------------------------------------- refusals: where, what and the names there are
 
-REFUSED = """<?xml version="1.0"?>
-<materialx version="1.39">
-  <standard_surfce name="s0" type="surfaceshader" />
+REFUSED_BODY = """  <standard_surfce name="s0" type="surfaceshader" />
   <standard_surface name="s1" type="surfaceshader">
     <input name="base_colour" type="color3" value="1, 0, 0" />
   </standard_surface>
@@ -307,9 +303,12 @@ REFUSED = """<?xml version="1.0"?>
   </surfacematerial>
   <output name="o_mm" type="color3" nodename="mm" />
   <output name="o_mi" type="color3" nodename="mi" />
-  <output name="o_ad" type="color3" nodename="ad" />
-</materialx>
-"""
+  <output name="o_ad" type="color3" nodename="ad" />"""
+
+
+def refused_doc(tmp_path):
+    """refused.mtlx, REFUSED_BODY's elements from line 3 on."""
+    return write_doc(tmp_path, REFUSED_BODY, "refused.mtlx")
 
 
 @pytest.mark.parametrize("element, line, message", [
@@ -322,8 +321,7 @@ REFUSED = """<?xml version="1.0"?>
     ("o_ad", 16, "connects to node 'mmm', which does not exist; did you mean 'mm'?"),
 ])
 def test_refusals_name_the_input_its_line_and_the_closest_names(tmp_path, element, line, message):
-    path = str(tmp_path / "refused.mtlx")
-    open(path, "w").write(REFUSED)
+    path = refused_doc(tmp_path)
     seen = diagnostics.Warnings()
     try:
         pipeline.generate(path, [element], warnings=seen, strict=element == "o_ad")
@@ -334,8 +332,7 @@ def test_refusals_name_the_input_its_line_and_the_closest_names(tmp_path, elemen
 
 
 def test_unknown_element_lists_the_renderable_elements(tmp_path):
-    path = str(tmp_path / "refused.mtlx")
-    open(path, "w").write(REFUSED)
+    path = refused_doc(tmp_path)
     with pytest.raises(diagnostics.MtlxError) as e:
         pipeline.generate(path, ["m_1"])
     assert e.value.lines() == ["%s:0: no element 'm_1' in the document; did you mean 'm1'? (renderable "
@@ -343,7 +340,6 @@ def test_unknown_element_lists_the_renderable_elements(tmp_path):
 
 
 def test_unknown_element_list_is_bounded(tmp_path):
-    from util import write_doc
     body = "".join('<surface_unlit name="s%d" type="surfaceshader" /><surfacematerial name="mat%02d" '
                    'type="material"><input name="surfaceshader" type="surfaceshader" nodename="s%d" />'
                    '</surfacematerial>' % (i, i, i) for i in range(27))
@@ -357,8 +353,7 @@ def test_unknown_element_list_is_bounded(tmp_path):
 def test_unknown_element_from_the_command_line(tmp_path):
     import subprocess
     import sys
-    path = str(tmp_path / "refused.mtlx")
-    open(path, "w").write(REFUSED)
+    path = refused_doc(tmp_path)
     proc = subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), "generate", path, "--element", "M1",
                            "-o", str(tmp_path / "o")], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 1 and "Traceback" not in proc.stderr
