@@ -42,7 +42,6 @@ being the layer holding the strongest opinion.
 import hashlib
 import os
 import re
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 from . import mxtypes
@@ -206,13 +205,11 @@ def _has_materials(stage):
 
 # ---------------------------------------------------------------- opening
 
-@contextmanager
 def _quiet_stderr():
     """USD reports warnings by writing to the process's stderr; problems are reported here instead, one
-    line each, so its writes during reading go to a scratch file (images.captured_stderr)."""
+    line each, so its writes during reading go to a scratch file (images.captured_stderr, imported on use)."""
     from .images import captured_stderr
-    with captured_stderr():
-        yield
+    return captured_stderr()
 
 
 def _tf_message(e):
