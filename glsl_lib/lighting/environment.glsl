@@ -3,10 +3,15 @@
 // Image-based lighting from a lat-long environment (interface.md): u = atan(d.x, -d.z) / 2pi + 0.5,
 // v = -asin(d.y) / pi + 0.5 of the direction d after u_envMatrix; row 0 of the image is the top.
 
+// Lat-long coordinates of a direction d in the map's own frame (after u_envMatrix).
+vec2 mg_latlong_uv_map(vec3 d)
+{
+    return vec2(atan(d.x, -d.z) / MG_TWO_PI + 0.5, -asin(clamp(d.y, -1.0, 1.0)) / MG_PI + 0.5);
+}
+
 vec2 mg_latlong_uv(vec3 dir)
 {
-    vec3 d = (u_envMatrix * vec4(dir, 0.0)).xyz;
-    return vec2(atan(d.x, -d.z) / MG_TWO_PI + 0.5, -asin(clamp(d.y, -1.0, 1.0)) / MG_PI + 0.5);
+    return mg_latlong_uv_map((u_envMatrix * vec4(dir, 0.0)).xyz);
 }
 
 // Radiance arriving from direction dir, read at a mip level (0 = sharpest).

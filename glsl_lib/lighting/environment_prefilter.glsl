@@ -1,4 +1,4 @@
-// requires: constants.glsl lighting/hammersley.glsl pbrlib/microfacet/ggx.glsl lighting/environment_prefiltered_level.glsl
+// requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl pbrlib/microfacet/ggx.glsl lighting/environment_prefiltered_level.glsl
 // The GGX-prefiltered radiance map the split-sum method reads (MG_ENV_PREFILTERED; lighting/environment_specular.glsl):
 // each texel of level l is the radiance around its direction R weighted by the GGX lobe of alpha_l
 // (lighting/environment_prefiltered_level.glsl) reflected about n = v = R (Karis 2013, "Real Shading in Unreal Engine
@@ -9,18 +9,12 @@
 // Importance Sampling", eq. 8, biased one level up as there), so that a few hundred samples do not alias. All in the
 // map's own frame: a texel (u, v) is the direction d with u = atan(d.x, -d.z) / 2 pi + 0.5, v = -asin(d.y) / pi + 0.5.
 
-// The map-frame direction of lat-long coordinates uv (the inverse of the lookup above).
+// The map-frame direction of lat-long coordinates uv (the inverse of lighting/environment.glsl's mg_latlong_uv_map).
 vec3 mg_latlong_direction(vec2 uv)
 {
     float elevation = (0.5 - uv.y) * MG_PI;
     float azimuth = (uv.x - 0.5) * MG_TWO_PI;
     return vec3(cos(elevation) * sin(azimuth), sin(elevation), -cos(elevation) * cos(azimuth));
-}
-
-// Lat-long coordinates of a map-frame direction.
-vec2 mg_latlong_uv_map(vec3 d)
-{
-    return vec2(atan(d.x, -d.z) / MG_TWO_PI + 0.5, -asin(clamp(d.y, -1.0, 1.0)) / MG_PI + 0.5);
 }
 
 // The GGX lobe of roughness alpha about R over the radiance chain `source` (mips levels), n samples.
