@@ -148,15 +148,14 @@ class GraphBuilder:
                    if not any(i.name in nd.inputs for nd in candidates)]
         if any(m for _, m in renamed):
             raise MtlxError([(loc, m) for loc, m in renamed if m])
-        sig = ", ".join("%s: %s" % (i.name, i.type) for i in node.inputs.values())
-        types = sorted({nd.type for nd in candidates})
-        if not any(self._type_matches(node, nd) for nd in candidates):
-            raise MtlxError((node.loc, "node '%s': no '%s' nodedef outputs type %s (types: %s)"
-                             % (node.name, node.category, node.type, ", ".join(types))))
         typed = [nd for nd in candidates if self._type_matches(node, nd)]
+        if not typed:
+            raise MtlxError((node.loc, "node '%s': no '%s' nodedef outputs type %s (types: %s)"
+                             % (node.name, node.category, node.type, ", ".join(sorted({nd.type for nd in candidates})))))
         at_inputs = self._input_problems(node, typed)
         if at_inputs:
             raise MtlxError(at_inputs)
+        sig = ", ".join("%s: %s" % (i.name, i.type) for i in node.inputs.values())
         raise MtlxError((node.loc, "node '%s': no '%s' nodedef of type %s takes inputs (%s)"
                          % (node.name, node.category, node.type, sig)))
 
