@@ -295,10 +295,9 @@ def build(root, path, source="document"):
     """XElement tree of one file (includes spliced) -> Document. Raises MtlxError listing all problems."""
     version = root.get("version", "1.39")
     from .upgrade import upgrade_tree       # an older document is read as the 1.39 one it stands for
-    assumed = []
+    assumed = []        # what the upgrade assumes an older document meant: the document's first warnings
     root = upgrade_tree(root, assumed)
-    doc = Document(path=path, version=version, colorspace=root.get("colorspace"))
-    doc.warnings.extend(assumed)
+    doc = Document(path=path, version=version, colorspace=root.get("colorspace"), warnings=assumed)
     problems = Problems()
     b = _Builder(doc, problems)
     ctx = _child_ctx({}, root)
