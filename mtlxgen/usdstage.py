@@ -263,10 +263,9 @@ def checked_layers(path):
     from pxr import Ar, Sdf
     root = os.path.abspath(path)
     check_regular(root, Loc(path, 0), "USD stage", "usd")
-    try:                # USD takes paths as UTF-8 text: a name in another encoding (held with surrogates) is none
-        root.encode("utf-8")
-    except UnicodeEncodeError:
-        raise MtlxError((Loc(path, 0), "USD cannot open a file whose path is not UTF-8 text (rename it)")) from None
+    from .images import _utf8       # USD takes paths as UTF-8 text, as OpenImageIO does
+    if not _utf8(root):
+        raise MtlxError((Loc(path, 0), "USD cannot open a file whose path is not UTF-8 text (rename it)"))
     resolver = Ar.GetResolver()
     with Ar.ResolverContextBinder(resolver.CreateDefaultContextForAsset(root)):
         try:
