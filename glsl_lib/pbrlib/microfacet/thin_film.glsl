@@ -8,18 +8,21 @@
 // the base's side, mg_thin_film_airy the film's reflectance (pbrlib/microfacet/fresnel_model.glsl: mg_fresnel_film).
 // mg_thin_film_reflectance is the older polarization-averaged form, kept for Enterprise PBR's film.
 
+// The CIE XYZ sensitivities' Gaussian fits (Belcour & Barla 2017, supplemental), one lobe each of x, y, z and x's
+// second lobe: frequencies, widths (variances) and amplitudes val sqrt(2 pi var), normalized by y's integral.
+const vec4 MG_THIN_FILM_XYZ_FREQ = vec4(1.6810e+06, 1.7953e+06, 2.2084e+06, 2.2399e+06);
+const vec4 MG_THIN_FILM_XYZ_VAR = vec4(4.3278e+09, 9.3046e+09, 6.6121e+09, 4.5282e+09);
+const vec4 MG_THIN_FILM_XYZ_AMP = vec4(5.4856e-13, 4.4201e-13, 5.2481e-13, 9.7470e-14)
+                                  * sqrt(MG_TWO_PI * MG_THIN_FILM_XYZ_VAR) / 1.0685e-7;
+
 // Fourier transform of the CIE XYZ sensitivities for optical path difference opd (nm) and phase
 // shift (Belcour & Barla 2017, supplemental: Gaussian fits of the colour matching functions).
 vec3 mg_thin_film_sensitivity(float opd, vec3 shift)
 {
     float phase = MG_TWO_PI * opd * 1.0e-9;
-    vec3 val = vec3(5.4856e-13, 4.4201e-13, 5.2481e-13);
-    vec3 pos = vec3(1.6810e+06, 1.7953e+06, 2.2084e+06);
-    vec3 var = vec3(4.3278e+09, 9.3046e+09, 6.6121e+09);
-    vec3 xyz = val * sqrt(MG_TWO_PI * var) * cos(pos * phase + shift) * exp(-phase * phase * var);
-    xyz.x += 9.7470e-14 * sqrt(MG_TWO_PI * 4.5282e+09) * cos(2.2399e+06 * phase + shift.x)
-             * exp(-4.5282e+09 * phase * phase);
-    return xyz / 1.0685e-7;
+    vec4 xyz = MG_THIN_FILM_XYZ_AMP * cos(MG_THIN_FILM_XYZ_FREQ * phase + vec4(shift, shift.x))
+               * exp(-phase * phase * MG_THIN_FILM_XYZ_VAR);
+    return xyz.xyz + vec3(xyz.w, 0.0, 0.0);
 }
 
 // Reflectance of a film (ior eta2, thickness in nm) over a base whose reflectance at the film-base
@@ -132,8 +135,8 @@ void mg_thin_film_order_weights(float R12, float t12, vec3 R23, vec3 u_re, vec3 
 // (unit phasor) are given per polarization and channel (mg_thin_film_base, mg_thin_film_schlick_base), at the
 // incidence cosine c1 in [0, 1], whose refraction cosine in the film is cos2 (mg_thin_film_cos2).
 // The spectral integral of each order is the Fourier transform of the CIE XYZ sensitivities (Belcour & Barla 2017,
-// supplemental: Gaussian fits, x with a second lobe) at the order's path difference: frequencies f (x, y, z, x's
-// second lobe), amplitudes val sqrt(2 pi var), widths var, for the round trip's phase p = 2 pi opd;
+// supplemental: Gaussian fits, x with a second lobe: MG_THIN_FILM_XYZ_*) at the order's path difference: frequencies f,
+// amplitudes val sqrt(2 pi var), widths var, for the round trip's phase p = 2 pi opd;
 // order m weighs each by exp(-m^2 p^2 var) cos(m f p + m phi). XYZ component j takes the base's channel j.
 vec3 mg_thin_film_airy(float c1, float eta2, float cos2, float thickness, vec3 R23s, vec3 R23p,
                        vec3 u23s_re, vec3 u23s_im, vec3 u23p_re, vec3 u23p_im)
@@ -146,13 +149,11 @@ vec3 mg_thin_film_airy(float c1, float eta2, float cos2, float thickness, vec3 R
     mg_thin_film_order_weights(min(rs12 * rs12, 1.0), sign(rs12), R23s, u23s_re, u23s_im, I0, w1_re, w1_im, w2_re, w2_im);
     mg_thin_film_order_weights(min(rp12 * rp12, 1.0), sign(rp12), R23p, u23p_re, u23p_im, I0, w1_re, w1_im, w2_re, w2_im);
 
-    const vec4 freq = vec4(1.6810e+06, 1.7953e+06, 2.2084e+06, 2.2399e+06);
-    const vec4 var = vec4(4.3278e+09, 9.3046e+09, 6.6121e+09, 4.5282e+09);
-    const vec4 amp = vec4(5.4856e-13, 4.4201e-13, 5.2481e-13, 9.7470e-14) * sqrt(MG_TWO_PI * var) / 1.0685e-7;
+    const vec4 amp = MG_THIN_FILM_XYZ_AMP;
     float p = MG_TWO_PI * 2.0e-9 * eta2 * thickness * cos2;        // round trip: opd = 2 eta2 d cos2 (nm)
-    vec4 A = freq * p;
+    vec4 A = MG_THIN_FILM_XYZ_FREQ * p;
     vec4 c = cos(A), s = sin(A);
-    vec4 g = exp(-(p * p) * var);
+    vec4 g = exp(-(p * p) * MG_THIN_FILM_XYZ_VAR);
     vec4 g2 = g * g;
     vec4 G1 = amp * g;
     vec4 G2 = amp * (g2 * g2);                          // exp(-4 p^2 var)
