@@ -103,15 +103,6 @@ def renderer_for(settings):
     return r
 
 
-def _trim_textures(r, keep=KEPT_TEXTURES):
-    """Forget the oldest decoded image files of renderer r beyond `keep` (read again when bound again: the same
-    pixels), so a process that draws a whole library holds a bounded set of textures."""
-    cache = getattr(r, "_image_cache", None)
-    if cache is not None and len(cache) > keep:
-        for path in list(cache)[:len(cache) - keep]:
-            r.forget_texture(path)
-
-
 def list_elements(path, library_dirs=()):
     """Renderable element name paths of a file, in document order (raises MtlxError)."""
     from . import graph, pipeline
@@ -197,7 +188,7 @@ def _draw_job(job, library_dirs, strict, options):
         if not strict:                  # strict: they are the item's errors
             item.warnings = session.warning_lines(name)
         items.append(item)
-    _trim_textures(r)
+    r.trim_images(KEPT_TEXTURES)
     return items
 
 

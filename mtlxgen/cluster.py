@@ -12,7 +12,7 @@ environment image, --library folders and the goldens are never shipped with the 
 and includes are only known once it is read). Workers therefore see the client's files where the client sees
 them: a shared or identical checkout, and the client's working directory, which each task runs in, so that
 relative paths and the lines that name them read as in a local run. Before any task is sent, every worker is
-asked whether it reads each document, the environment, each library folder and the golden index, with the
+asked whether it reads each document, the environment and each library folder, with the
 same size (and for a sample, the same bytes) as here, and runs the same mtlxgen (a digest of its package
 files); a worker that does not is one line naming the file (or the worker) and nothing is run.
 

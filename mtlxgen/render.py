@@ -454,6 +454,13 @@ class Renderer:
         if t is not None and not isinstance(t, MtlxError):
             t.release()
 
+    def trim_images(self, keep):
+        """Forget the oldest textures of image files (and constants) beyond `keep`: read again when bound again, the
+        same pixels. Between drawings only (batch, after each job): a process that draws a whole library holds a
+        bounded set."""
+        for path in list(self._image_cache)[:max(0, len(self._image_cache) - keep)]:
+            self.forget_texture(path)
+
     def constant_texture(self, value):
         """A 1x1 texture of an image node's `default` (what a viewer binds when the file cannot be read)."""
         v = [float(x) for x in (value if isinstance(value, (list, tuple)) else [value])]
