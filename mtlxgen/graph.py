@@ -12,7 +12,7 @@ from dataclasses import replace
 from . import colorspaces, mxtypes
 from .diagnostics import Loc, MtlxError, Problems, Warnings
 # the graph's data types and naming rules live in a leaf module; named here too, as graph.X, for the callers
-from .graphtypes import (IDENTIFIER_CHARS, GNode, Graph, Source, Uniform,  # noqa: F401
+from .graphtypes import (IDENTIFIER_CHARS, GNode, Graph, Origin, Source, Uniform,  # noqa: F401
                          glsl_identifier, unique_identifier)
 from .renamed_inputs import renamed_input_message
 
@@ -330,7 +330,7 @@ class GraphBuilder:
                 if inp.defaultgeomprop and inp.value is None:
                     interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)
                 else:
-                    interface[inp.name] = self.public_value(g.name, inp, inp)
+                    interface[inp.name] = self.public_value(g.name, inp, inp, g.name)
         for inp in g.inputs.values():
             src = None
             if inp.nodename or inp.nodegraph or inp.interfacename:     # interfacename: a document input
@@ -340,12 +340,14 @@ class GraphBuilder:
             elif inp.defaultgeomprop and inp.value is None:
                 interface[inp.name] = self.geom_source(inp.defaultgeomprop, inp.loc, None)
             else:
-                interface[inp.name] = self.public_value(g.name, inp, inp)
+                interface[inp.name] = self.public_value(g.name, inp, inp, g.name, True)
         return _Scope(g.nodes, g.name + "/", interface, True, g, self.doc_scope, g.loc)
 
-    def public_value(self, owner, port, declared):
+    def public_value(self, owner, port, declared, element=None, authored=None):
         """An unconnected input at document level: a public uniform initialised with its value (one that does not
-        parse is the input's problem, as for a node's input)."""
+        parse is the input's problem, as for a node's input). element: the name path of the document element whose
+        input it is (the uniform's Origin); None inside an implementation (a library's input, not the document's).
+        authored: the document writes the input (default: `port` is not `declared`, the nodedef's own)."""
         if port.error:
             raise MtlxError((port.loc, port.error))
         self.note_value(port if port.value is not None or port.warning else declared)   # value="": its warning
@@ -358,7 +360,10 @@ class GraphBuilder:
             return Source(t, value=value, loc=port.loc)
         name = self.add_uniform("%s_%s" % (owner, declared.name), t, value, port.loc,
                                 colorspace if t == "filename" else None)
-        self.uniforms[name].marked = bool(port.uniform or declared.uniform)
+        u = self.uniforms[name]
+        u.marked = bool(port.uniform or declared.uniform)
+        if element is not None:
+            u.origin = Origin(element, declared.name, port is not declared if authored is None else authored)
         return Source(t, value=value, uniform=name, colorspace=colorspace if t == "filename" else None,
                       unit=port.unit or declared.unit, unittype=port.unittype or declared.unittype, loc=port.loc)
 
@@ -573,7 +578,8 @@ class GraphBuilder:
                 if p.error:
                     raise MtlxError((p.loc, p.error))
                 if public or dtype == "filename":
-                    src = self.public_value(stem, p, decl)
+                    src = self.public_value(stem, p, decl, ((scope.graph.name + "/" if scope.graph is not None else "")
+                                                            + node.name) if public else None)
                 else:
                     q = p if p.value is not None or p.warning else decl
                     if q.warning:
@@ -708,7 +714,7 @@ class GraphBuilder:
     def doc_scope(self):
         if "_doc_scope" not in self.__dict__:
             # top-level <input>s: the document's own interface, public uniforms like any other
-            interface = {i.name: self.public_value("doc", i, i) for i in self.doc.inputs.values()}
+            interface = {i.name: self.public_value("doc", i, i, "", True) for i in self.doc.inputs.values()}
             self._doc_scope = _Scope(self.doc.nodes, "", interface, True, None, None, None)
         return self._doc_scope
 

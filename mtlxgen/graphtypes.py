@@ -44,6 +44,17 @@ class GNode:
     static: dict = field(default_factory=dict)   # string/enum inputs: name -> value (compile time)
 
 
+@dataclass(frozen=True, slots=True)
+class Origin:
+    """Where a public uniform comes from in the document: the input `input` of the element at name path `element`
+    (a node at the document's level "N", a node in a nodegraph "NG/N", a nodegraph's own input "NG", the document's
+    top-level inputs ""). authored: the document writes the input (else its value is the nodedef's default). The
+    viewer's value edits and the write-back (docedit.py) find the input from here."""
+    element: str
+    input: str
+    authored: bool = True
+
+
 @dataclass(slots=True)
 class Uniform:
     name: str
@@ -54,6 +65,7 @@ class Uniform:
     default: object = None            # image nodes: the colour outside the image
     marked: bool = False              # the document marks it uniform="true" (the input or its nodedef's): kept
                                       # a uniform in the reduced interface (reduce.py)
+    origin: Origin = None             # the document input it comes from (None: one emission or a library made)
 
 
 @dataclass
