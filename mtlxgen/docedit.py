@@ -49,6 +49,8 @@ class PanelInput:
     element_path: tuple = None  # the input's name path in its file (MaterialX's getNamePath split at '/': nodegraph,
                                 # node, input), confirmed against the file's bytes; None: not confirmed (not saved)
     source: "SourceFile" = None     # the file and the sha256 of its bytes when the path was confirmed
+    origin: object = None       # graphtypes.Origin: the document element (name path) and input the uniform comes
+                                # from; where it is written is confirmed against it (record_sources)
 
     @property
     def group(self):
@@ -114,50 +116,68 @@ def _split(text):
 
 
 def public_inputs(session, element):
-    """[PanelInput] of one element of a pipeline.Session, in the order its shader declares the uniforms."""
-    from .graph import GraphBuilder, glsl_identifier
+    """[PanelInput] of one element of a pipeline.Session, in the order its shader declares the uniforms. Each
+    uniform's document input comes from its Origin (graphtypes.Origin: the element's name path, the input,
+    whether the document writes it) and its loc (FILE:LINE of the input, or of the nodedef's input when not
+    authored): never from the uniform's identifier."""
+    from .graph import GraphBuilder
     g = session.graph(element)
     doc = session.doc
     builder = GraphBuilder(doc, session.library, session.rules)
-    owners = []         # (stem, node name, tag, node loc, {input: authored port}, {input: declared port})
-    for node in list(doc.nodes.values()) + [n for ng in doc.nodegraphs.values() for n in ng.nodes.values()]:
+    owners = {}             # origin element -> [(display name, tag, element loc, {input: port}, {input: declared})]
+    out = []
+    for u in g.uniforms.values():
+        if u.type not in EDITABLE_TYPES or u.origin is None:
+            continue
+        o = u.origin
+        if o.element not in owners:
+            owners[o.element] = _owners(doc, session.library, builder, o.element)
+        for name, tag, loc, ports, declared in owners[o.element]:
+            port, decl = ports.get(o.input), declared.get(o.input)
+            if decl is None:
+                continue
+            # the element whose input it is: the uniform's own FILE:LINE (an element MaterialX reads twice over,
+            # a node and a nodegraph of one name: the one the graph was built from)
+            if o.authored and (port is None or port.loc != u.loc) or not o.authored and (port is not None or decl.loc != u.loc):
+                continue
+            decl_attrs, own_attrs = _attrs(decl), _attrs(port) if o.authored else {}
+            enum = port.enum if o.authored and port.enum else decl.enum
+            enumvalues = port.enumvalues if o.authored and port.enumvalues else decl.enumvalues
+            out.append(PanelInput(
+                uniform=u.name, node=name, input=o.input, mtlx_type=u.type, value=u.value,
+                label=own_attrs.get("uiname") or decl_attrs.get("uiname") or o.input,
+                folder=own_attrs.get("uifolder") or decl_attrs.get("uifolder") or "",
+                ui=_ui(decl_attrs, own_attrs, u.type), enum=_split(enum), enumvalues=_split(enumvalues),
+                where=u.loc if o.authored else None, node_loc=loc if tag != "materialx" else None, tag=tag,
+                origin=o))
+            break
+    return record_sources(out)
+
+
+def _owners(doc, library, builder, path):
+    """The document elements at name path `path` (an Origin's element) that may own a public input: [(display
+    name, tag, loc, {input: authored port}, {input: declared port})]. "": the document's own inputs; "NG": a
+    nodegraph's interface or a node at the document's level; "NG/N": a node in nodegraph NG."""
+    if path == "":
+        return [("doc", "materialx", None, doc.inputs, doc.inputs)] if doc.inputs else []
+    parent, _, name = path.rpartition("/")
+    found = []
+    if not parent and name in doc.nodegraphs:
+        ng = doc.nodegraphs[name]
+        nd = library.nodedefs.get(ng.nodedef) if ng.nodedef else None
+        declared = dict(nd.inputs) if nd is not None else {}
+        declared.update({k: v for k, v in ng.inputs.items() if k not in declared})
+        found.append((path, "nodegraph", ng.loc, ng.inputs, declared))
+    nodes = doc.nodes if not parent else (doc.nodegraphs[parent].nodes if parent in doc.nodegraphs else {})
+    node = nodes.get(name)
+    if node is not None:
         try:
             nd = builder.nodedef_for(node)
         except MtlxError:
-            continue
-        owners.append((node.name, node.category, node.loc, node.inputs, nd.inputs))
-    for ng in doc.nodegraphs.values():
-        nd = session.library.nodedefs.get(ng.nodedef) if ng.nodedef else None
-        declared = dict(nd.inputs) if nd is not None else {}
-        declared.update({k: v for k, v in ng.inputs.items() if k not in declared})
-        owners.append((ng.name, "nodegraph", ng.loc, ng.inputs, declared))
-    if doc.inputs:
-        owners.append(("doc", "materialx", None, doc.inputs, doc.inputs))
-    by_stem = {}
-    for name, tag, loc, authored, declared in owners:
-        for input_name, decl in declared.items():
-            by_stem.setdefault(glsl_identifier("%s_%s" % (name, input_name)), []).append(
-                (name, tag, loc, authored.get(input_name), decl))
-    out = []
-    for u in g.uniforms.values():
-        if u.type not in EDITABLE_TYPES:
-            continue
-        stem = re.sub(r"\d+$", "", u.name)
-        for name, tag, loc, port, decl in by_stem.get(u.name, []) + (by_stem.get(stem, []) if stem != u.name else []):
-            authored = port is not None and port.loc == u.loc
-            if not authored and not (decl.loc == u.loc and port is None):
-                continue
-            decl_attrs, own_attrs = _attrs(decl), _attrs(port) if authored else {}
-            enum = port.enum if authored and port.enum else decl.enum
-            enumvalues = port.enumvalues if authored and port.enumvalues else decl.enumvalues
-            out.append(PanelInput(
-                uniform=u.name, node=name, input=decl.name, mtlx_type=u.type, value=u.value,
-                label=own_attrs.get("uiname") or decl_attrs.get("uiname") or decl.name,
-                folder=own_attrs.get("uifolder") or decl_attrs.get("uifolder") or "",
-                ui=_ui(decl_attrs, own_attrs, u.type), enum=_split(enum), enumvalues=_split(enumvalues),
-                where=port.loc if authored else None, node_loc=loc if tag != "materialx" else None, tag=tag))
-            break
-    return record_sources(out)
+            nd = None
+        if nd is not None:
+            found.append((path, node.category, node.loc, node.inputs, nd.inputs))
+    return found
 
 
 # ------------------------------------------------------------------ where each input is written
@@ -250,19 +270,34 @@ def _read_source(path):
 
 
 def _confirmed_path(item, index):
-    """The name path of the input item sets, where its file's elements confirm it (see record_sources)."""
-    if item.where is not None:
+    """The name path in its file of the input item sets, where that file's elements confirm it (see
+    record_sources): the element the reader finds at the item's line is the input (or, for an input not
+    authored, the node) its Origin names. The path in an included file is the tail of the path in the document
+    (the file's elements sit where the xi:include element was)."""
+    o = item.origin
+    if o is None:
+        return None
+    wanted = tuple(o.element.split("/")) if o.element else ()
+
+    def names_of(names, whole, least):
+        # a name path in the file naming the document's element `whole`: all of it (the document's own file, an
+        # include at the top level), or its tail of `least` names or more (an include inside a nodegraph)
+        return names is not None and (names == whole or least <= len(names) < len(whole)
+                                      and whole[len(whole) - len(names):] == names)
+
+    if o.authored:
+        if item.where is None:
+            return None
         found = [names for el, names, parent in index.by_line.get(item.where.line, ())
-                 if el.tag == "input" and el.get("name") == item.input and names is not None
-                 and (names[:-1] == () if item.tag == "materialx" else parent.get("name") == item.node)]
+                 if el.tag == "input" and el.get("name") == o.input and names_of(names, wanted + (o.input,), 2)]
         return found[0] if len(found) == 1 else None
-    if item.node_loc is None:
+    if item.node_loc is None or not wanted:
         return None
     found = [names for el, names, parent in index.by_line.get(item.node_loc.line, ())
-             if el.tag == item.tag and el.get("name") == item.node and names is not None]
-    if len(found) != 1 or found[0] + (item.input,) in index.by_path:
+             if el.tag == item.tag and names_of(names, wanted, 1)]
+    if len(found) != 1 or found[0] + (o.input,) in index.by_path:
         return None
-    return found[0] + (item.input,)
+    return found[0] + (o.input,)
 
 
 # ------------------------------------------------------------------ writing

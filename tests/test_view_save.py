@@ -172,3 +172,82 @@ def test_the_panels_save_says_what_it_did(tmp_path):
     assert panel.save() == [path] and 'value="0.25"' in open(path).read()
     loaded.overrides = {"not_an_input": 1.0}
     assert panel.save() == [] and panel.message.startswith("nothing to save")
+
+
+# uniforms whose names say nothing of their inputs: a node takes 'm_in2' first, so m's in2 is 'm_in22'; an image
+# 'img' at the document's level and one inside nodegraph NG both leave 'default' unauthored (one uniform is
+# 'img_default', the other 'img_default2')
+CLASH = """<?xml version="1.0"?>
+<materialx version="1.39">
+  <constant name="m_in2" type="float">
+    <input name="value" type="float" value="0.5" />
+  </constant>
+  <multiply name="m" type="float">
+    <input name="in1" type="float" nodename="m_in2" />
+  </multiply>
+  <image name="img" type="float">
+    <input name="file" type="filename" value="grey.png" />
+  </image>
+  <nodegraph name="NG">
+    <input name="tint" type="float" value="0.9" />
+    <image name="img" type="float">
+      <input name="file" type="filename" value="grey.png" />
+    </image>
+    <multiply name="n" type="float">
+      <input name="in1" type="float" nodename="img" />
+      <input name="in2" type="float" interfacename="tint" />
+    </multiply>
+    <output name="out" type="float" nodename="n" />
+  </nodegraph>
+  <add name="s" type="float">
+    <input name="in1" type="float" nodename="m" />
+    <input name="in2" type="float" nodename="img" />
+  </add>
+  <add name="s2" type="float">
+    <input name="in1" type="float" nodename="s" />
+    <input name="in2" type="float" nodegraph="NG" output="out" />
+  </add>
+  <surface_unlit name="U" type="surfaceshader">
+    <input name="emission" type="float" nodename="s2" />
+  </surface_unlit>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="U" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def test_inputs_come_from_the_uniforms_origin_not_their_names(tmp_path):
+    """Each panel input is the document input its uniform's Origin names, whatever the uniform is called: a
+    counter appended to a clashing name, nodes of one name in and outside a nodegraph, textures; Save writes
+    each into that input (one the document does not author added to its own node)."""
+    path = write(tmp_path, CLASH)
+    got = inputs(path, "M")
+    g = pipeline.Session(path).graph("M")
+    assert {"m_in22", "img_default", "img_default2", "NG_tint"} <= set(g.uniforms)   # the names this is about
+    assert {u.name for u in g.uniforms.values() if u.type in docedit.EDITABLE_TYPES} == set(got)
+    where = {(i.node, i.input): (i.mtlx_type, i.where and i.where.line, i.node_loc and i.node_loc.line,
+                                 i.element_path) for i in got.values()}
+    assert where[("m", "in2")] == ("float", None, 6, ("m", "in2"))           # not authored: added to m
+    assert where[("NG", "tint")] == ("float", 13, 12, ("NG", "tint"))
+    assert where[("img", "default")] == ("float", None, 9, ("img", "default"))
+    assert where[("NG/img", "default")] == ("float", None, 14, ("NG", "img", "default"))
+    assert where[("img", "file")] == ("filename", 10, 9, ("img", "file"))
+    assert where[("NG/img", "file")] == ("filename", 15, 14, ("NG", "img", "file"))
+    by = {(i.node, i.input): i for i in got.values()}
+    docedit.save_values([(by[("m", "in2")], 0.75), (by[("NG", "tint")], 0.5), (by[("img", "default")], 0.25),
+                         (by[("NG/img", "default")], 0.125), (by[("NG/img", "file")], "other.png")])
+    text = open(path).read()
+    assert text == CLASH.replace(
+        '  <multiply name="m" type="float">\n',
+        '  <multiply name="m" type="float">\n    <input name="in2" type="float" value="0.75" />\n').replace(
+        '\n  <image name="img" type="float">\n',
+        '\n  <image name="img" type="float">\n    <input name="default" type="float" value="0.25" />\n').replace(
+        '    <image name="img" type="float">\n      <input name="file" type="filename" value="grey.png" />',
+        '    <image name="img" type="float">\n      <input name="default" type="float" value="0.125" />\n'
+        '      <input name="file" type="filename" value="other.png" />').replace('value="0.9"', 'value="0.5"')
+    g = pipeline.Session(path).graph("M")
+    values = {(u.origin.element, u.origin.input): u.value for u in g.uniforms.values()}
+    assert values[("m", "in2")] == 0.75 and values[("NG", "tint")] == 0.5
+    assert values[("img", "default")] == 0.25 and values[("NG/img", "default")] == 0.125
+    assert values[("NG/img", "file")] == "other.png" and values[("img", "file")] == "grey.png"

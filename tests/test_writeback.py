@@ -17,6 +17,7 @@ import pytest
 
 from mtlxgen import docedit, pipeline, xmlreader
 from mtlxgen.diagnostics import Loc, MtlxError
+from mtlxgen.graphtypes import Origin
 
 hypothesis = pytest.importorskip("hypothesis", reason="hypothesis is a test dependency (pip install -e '.[test]')")
 from hypothesis import HealthCheck, event, given, seed, settings, strategies as st  # noqa: E402
@@ -244,26 +245,28 @@ def test_an_input_not_confirmed_when_listed_is_refused(tmp_path):
 
 def panel_inputs(path, extra=()):
     """{(owner, input): PanelInput} of every <input> of a file as the XML reader reads them (owner: the node or
-    nodegraph holding it, 'doc' for the document's own), plus `extra` (node, input, type) not authored;
-    confirmed by docedit.record_sources as public_inputs does."""
+    nodegraph holding it, 'doc' for the document's own), plus `extra` (node, input, type) not authored; each
+    with the Origin the graph gives its uniform (the owner's name path, the input), confirmed by
+    docedit.record_sources as public_inputs does."""
     root = xmlreader.parse_text(read(path), path)
-    out, owners, work = {}, {}, [root]
+    out, owners, work = {}, {}, [(root, "")]
     while work:
-        el = work.pop()
+        el, at = work.pop()
         owner = el.get("name") or "doc"
-        owners[owner] = el
+        owners[owner] = (el, at)
         for c in el.children:
             if c.tag == "input":
                 out[(owner, c.get("name"))] = docedit.PanelInput(
                     uniform="%s_%s" % (owner, c.get("name")), node=owner, input=c.get("name"),
                     mtlx_type=c.get("type"), value=None, where=c.loc, node_loc=None if el is root else el.loc,
-                    tag=el.tag)
+                    tag=el.tag, origin=Origin(at, c.get("name")))
             elif c.get("name"):
-                work.append(c)
+                work.append((c, at + "/" + c.get("name") if at else c.get("name")))
     for node, name, mtlx_type in extra:
-        c = owners[node]
+        c, at = owners[node]
         out[(node, name)] = docedit.PanelInput(uniform="%s_%s" % (node, name), node=node, input=name,
-                                               mtlx_type=mtlx_type, value=None, node_loc=c.loc, tag=c.tag)
+                                               mtlx_type=mtlx_type, value=None, node_loc=c.loc, tag=c.tag,
+                                               origin=Origin(at, name, False))
     docedit.record_sources(list(out.values()))
     return out
 
