@@ -106,8 +106,9 @@ class OrbitCamera:
 
 @dataclass
 class Generated:
-    """One element's shader as a generator wrote it. sources (our generator only): {(file, line): [(uniform,
-    MaterialX type)]}, the public uniforms each document line's input initialises, for value edits that skip
+    """One element's shader as a generator wrote it. sources (our generator only): {(element, input): [(uniform,
+    MaterialX type, (file, line))]}, the public uniforms each document input initialises (the uniforms' Origin:
+    the element's name path and the input; the input's FILE:LINE, the file absolute), for value edits that skip
     the generator (Viewer._value_edit); empty where the generator does not say."""
     element: str
     stem: str
@@ -178,9 +179,11 @@ class OurGenerator:
         if notes:                         # drawn all the same (a texture not found draws its default or fallback)
             s.manifest = dict(s.manifest, notes=["%s: %s" % n for n in notes])
         sources = {}
-        for u in g.uniforms.values():
-            if u.loc is not None and u.loc.where is None and u.loc.file:
-                sources.setdefault((os.path.abspath(u.loc.file), u.loc.line), []).append((u.name, u.type))
+        for u in g.uniforms.values():       # inputs the document writes, in a .mtlx file (not a USD stage)
+            o = u.origin
+            if o is not None and o.authored and u.loc is not None and u.loc.where is None and u.loc.file:
+                sources.setdefault((o.element, o.input), []).append(
+                    (u.name, u.type, (os.path.abspath(u.loc.file), u.loc.line)))
         return Generated(name, s.stem, s.vertex, s.fragment, s.manifest, sources)
 
     def _specialized(self, session, name, g):
@@ -343,13 +346,16 @@ def parse_tree(data, path):
 
 
 def value_edits(old, new):
-    """[(old <input>, new <input>)] whose value attribute differs, where the two documents are otherwise the same:
-    the same elements, attributes and lines. None where anything else differs, or where a value changed inside a
-    nodedef or a nodegraph implementing one (a default or an implementation's value: read as constants too)."""
+    """[((element, input), old <input>, new <input>)] whose value attribute differs, where the two documents are
+    otherwise the same: the same elements, attributes and lines. (element, input): the input's name path as an
+    Origin gives it (the name path of the element holding it, "" for the document's own inputs); None for one
+    MaterialX does not read by that path (a later sibling repeating a name, an element without a name, what
+    they hold). None where anything else differs, or where a value changed inside a nodedef or a nodegraph
+    implementing one (a default or an implementation's value: read as constants too)."""
     out = []
-    stack = [(old, new, False)]
+    stack = [(old, new, False, ())]
     while stack:
-        a, b, definition = stack.pop()
+        a, b, definition, names = stack.pop()
         if a.tag != b.tag or a.loc != b.loc or len(a.children) != len(b.children):
             return None
         if a.attrs != b.attrs:
@@ -357,9 +363,14 @@ def value_edits(old, new):
                 return None
             if {k: v for k, v in a.attrs.items() if k != "value"} != {k: v for k, v in b.attrs.items() if k != "value"}:
                 return None
-            out.append((a, b))
+            out.append(((("/".join(names[:-1]), names[-1]) if names else None), a, b))
         definition = definition or a.tag == "nodedef" or (a.tag == "nodegraph" and a.get("nodedef") is not None)
-        stack.extend((x, y, definition) for x, y in zip(a.children, b.children))
+        seen = set()
+        for x, y in zip(a.children, b.children):
+            name = x.get("name")
+            sub = names + (name,) if names is not None and name and name not in seen else None
+            seen.add(name)
+            stack.append((x, y, definition, sub))
     return out
 
 
@@ -825,10 +836,12 @@ class Viewer:
     def _value_edit(self, changed_at, data):
         """A document edit that changed only input values of public uniforms of the shown element's shader: the
         values set on the linked program, no generation (the session is read again after the next frame).
-        False (nothing done) where in doubt: anything but <input> values changed, an input on a line with
-        other elements, one that feeds no uniform of the shown shader or feeds it otherwise than as its value
-        (its current value is not the uniform's), a folded input of a specialized shader, a type a program
-        cannot be set to, a value that does not read cleanly, a reload in flight, problems shown."""
+        Each edited input's uniforms are those whose Origin names it (its element's name path and its name),
+        the uniform's FILE:LINE that of the input. False (nothing done) where in doubt: anything but <input>
+        values changed, an input MaterialX does not read by its name path (a repeated name), one that feeds no
+        uniform of the shown shader or feeds it otherwise than as its value (its current value is not the
+        uniform's), a folded input of a specialized shader, a type a program cannot be set to, a value that does
+        not read cleanly, a reload in flight, problems shown."""
         from . import mxtypes
         loaded = self.loaded.get(self.element)
         if self.base is None or loaded is None or loaded.stale or not loaded.generated.sources \
@@ -843,26 +856,21 @@ class Viewer:
         if not edits:                   # the same elements, attributes and lines (a comment, spaces): the same
             self.base_data = data       # shaders, nothing to do
             return True
-        per_line = {}
-        stack = [new]
-        while stack:
-            el = stack.pop()
-            per_line[(el.loc.file, el.loc.line)] = per_line.get((el.loc.file, el.loc.line), 0) + 1
-            stack.extend(el.children)
         changes = {}
-        for a, b in edits:
-            where = (a.loc.file, a.loc.line)
+        for where, a, b in edits:
             t = b.get("type")
-            if per_line[where] != 1 or a.get("value") is None or b.get("value") is None or t not in SETTABLE:
+            if where is None or a.get("value") is None or b.get("value") is None or t not in SETTABLE:
                 return False
-            targets = loaded.generated.sources.get((os.path.abspath(a.loc.file), a.loc.line), [])
-            if not targets:
+            # the uniforms the input's Origin names, confirmed at the input's FILE:LINE
+            targets = loaded.generated.sources.get(where, ())
+            at = (os.path.abspath(a.loc.file), a.loc.line)
+            if not targets or any(loc != at for _, _, loc in targets):
                 return False
             try:
                 before, after = mxtypes.parse_value(t, a.get("value")), mxtypes.parse_value(t, b.get("value"))
             except Exception:
                 return False
-            for uniform, utype in targets:
+            for uniform, utype, _ in targets:
                 if utype != t or uniform not in loaded.values or loaded.folded(uniform) \
                         or not _same(loaded.values[uniform], before):
                     return False

@@ -3,7 +3,8 @@
   - a value edit of the document (only <input> values of the shown shader's public uniforms changed) sets the
     values on the linked program without running the generator; the picture is the one a fresh viewer draws
     of the edited document; anything else (a new node, an input the shader does not have as a uniform, one
-    sharing its line with another element, a value that does not read cleanly) generates as before;
+    repeating its name, a value that does not read cleanly) generates as before; each input edited sets the
+    uniforms whose Origin names it (its element's name path and name), not those of its line or of a name alike;
   - the zero-weight specialization: inputs at zero are constants in the viewer's shader (their lobes left out),
     the picture is `render`'s; an edit moving one off zero generates again with it kept, and it stays kept;
     the panel's edit of a folded input (Viewer.unfold) does the same with the panel's value.
@@ -197,15 +198,9 @@ def test_same_document_draws_on(tmp_path, window):
     (doc(), doc(base_color='nodename="chk"')),
     # the checkerboard's colour: an input of a node the shown shader does not read
     (doc(), doc().replace('value="0.9, 0.5, 0.1"', 'value="0.2, 0.5, 0.1"')),
-    # an input on the line of another element
-    (doc().replace('<input name="coat" type="float" value="0" />', ''
-                   ).replace('<standard_surface name="SR" type="surfaceshader">',
-                             '<standard_surface name="SR" type="surfaceshader"><input name="coat" type="float" '
-                             'value="0.25" />'),
-     doc().replace('<input name="coat" type="float" value="0" />', ''
-                   ).replace('<standard_surface name="SR" type="surfaceshader">',
-                             '<standard_surface name="SR" type="surfaceshader"><input name="coat" type="float" '
-                             'value="0.5" />')),
+    # an input repeating its name in its node (MaterialX reads one of the two by that name)
+    (doc(coat='0.25" /><input name="coat" type="float" value="0.25'),
+     doc(coat='0.25" /><input name="coat" type="float" value="0.5')),
     # a value MaterialX reads past a slip (text after the number): read with its warning, by the generator
     (doc(roughness="0.3"), doc(roughness="0.4x")),
 ])
@@ -219,6 +214,58 @@ def test_other_edits_generate(tmp_path, window, before, after):
         calls = gen.calls
         edit(v, path, after)
         assert gen.calls > calls and "not generated" not in (v.last_reload or (0, ""))[1]
+        img = v.image().copy()
+    finally:
+        v.close()
+    want, _ = fresh(window, tmp_path, after)
+    assert np.abs(img - want).max() <= 1e-6
+
+
+# a constant named like SR's coat uniform (built first: SR's coat is 'SR_coat2'); two inputs on one line, and one on
+# the node's own line
+LINES = """<?xml version="1.0"?>
+<materialx version="1.39">
+  <constant name="SR_coat" type="float">
+    <input name="value" type="float" value="{value}" />
+  </constant>
+  <standard_surface name="SR" type="surfaceshader"><input name="specular_roughness" type="float" value="{rough}" />
+    <input name="base" type="float" nodename="SR_coat" />
+    <input name="base_color" type="color3" value="{colour}" /><input name="coat" type="float" value="{coat}" />
+  </standard_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def test_value_edit_sets_the_inputs_origin_names(tmp_path, window):
+    """Inputs sharing a line (with each other, with their node's start tag) and a uniform whose name is another
+    node's with a counter: each edit sets the uniform its input's Origin names, without generating; the picture
+    is a fresh viewer's."""
+    before = LINES.format(value="0.8", rough="0.3", colour="0.8, 0.2, 0.1", coat="0.25")
+    after = LINES.format(value="0.6", rough="0.5", colour="0.1, 0.6, 0.3", coat="0.75")
+    path = tmp_path / "lines.mtlx"
+    write(path, before)
+    gen = Counting()
+    v = open_viewer(window, path, gen)
+    try:
+        settle(v)
+        sources = v.loaded["M"].generated.sources
+        assert [t[0] for t in sources[("SR", "coat")]] == ["SR_coat2"]      # the name this test is about
+        assert [t[0] for t in sources[("SR_coat", "value")]] == ["SR_coat_value"]
+        prepared, calls, g = v.loaded["M"].prepared, gen.calls, v.generation
+        write(path, after)
+        deadline = time.time() + 30
+        while v.generation == g and time.time() < deadline:
+            v.poll()                  # what frame() does first (a frame then asks the session to read it again)
+            time.sleep(0.005)
+        assert gen.calls == calls and v.last_reload[1] == "M: 4 values set, not generated"
+        values = v.loaded["M"].values
+        assert (values["SR_coat_value"], values["SR_specular_roughness"], values["SR_base_color"],
+                values["SR_coat2"]) == (0.6, 0.5, (0.1, 0.6, 0.3), 0.75)
+        settle(v)                     # the session reads it again: the same text, nothing relinked
+        assert v.loaded["M"].prepared is prepared
         img = v.image().copy()
     finally:
         v.close()
