@@ -538,3 +538,44 @@ def test_inputs_of_an_included_file_are_written_into_it(tmp_path):
     assert docedit.save_values([(got["b_file"], "b2.png"), (got["a_file"], "a2.png")]) == [path, lib]
     assert read(lib) == old_lib.replace(b'"a.png"', b'"a2.png"')
     assert read(path) == main.replace('"b.png"', '"b2.png"').encode()
+
+
+def test_an_unauthored_input_of_an_included_node_is_added_in_its_file(tmp_path):
+    """A node from an xi:include'd file leaves an input to its nodedef: the uniform's Origin names the node, its
+    element is found in the included file (its own FILE:LINE), and the <input> is added there."""
+    lib_text = (b'<?xml version="1.0"?>\n<materialx version="1.39">\n'
+                b'  <image name="a" type="color3"><input name="file" type="filename" value="a.png" /></image>\n'
+                b'</materialx>\n')
+    lib = put(tmp_path, lib_text, "lib.mtlx")
+    main = mixed().replace('  <image name="a" type="color3"><input name="file" type="filename" value="a.png" />'
+                           '</image>\n', '  <xi:include href="lib.mtlx" />\n')
+    path = put(tmp_path, main.encode())
+    got = {(i.origin.element, i.input): i for i in docedit.public_inputs(pipeline.Session(path), "M")}
+    item = got[("a", "default")]
+    assert item.where is None and item.node_loc == Loc(lib, 3) and item.element_path == ("a", "default")
+    assert item.source.path == lib and not item.origin.authored
+    assert docedit.save_values([(item, (0.25, 0.5, 1.0))]) == [lib]
+    assert read(path) == main.encode()
+    assert read(lib) == lib_text.replace(b'<image name="a" type="color3">',
+                                         b'<image name="a" type="color3">\n    <input name="default" '
+                                         b'type="color3" value="0.25, 0.5, 1" />')
+    g = pipeline.Session(path).graph("M")
+    assert [u.value for u in g.uniforms.values()
+            if (u.origin.element, u.origin.input, u.origin.authored) == ("a", "default", True)] == [(0.25, 0.5, 1.0)]
+
+
+def test_an_input_is_confirmed_against_its_origin(tmp_path):
+    """The element at the input's line must be the input its Origin names (element name path and input): an item
+    whose origin names another node's input of the same name at another line, or no origin, is not confirmed and
+    not saved."""
+    path = put(tmp_path, mixed().encode())
+    items = panel_inputs(path)
+    a, b = items[("a", "file")], items[("b", "file")]
+    assert a.element_path == ("a", "file") and b.element_path == ("b", "file")
+    a.origin = Origin("b", "file")              # b's origin at a's line
+    b.origin = None
+    docedit.record_sources([a, b])
+    assert a.source is None and a.element_path is None and b.source is None
+    assert refused([(a, "x.png")]) == [
+        "%s:4: input 'file' of 'a': the file changed while the document was read: not saved; reload first" % path]
+    assert read(path) == mixed().encode()
