@@ -1,10 +1,12 @@
 """An element's public inputs as a property panel shows them, and writing edited values back into the document.
 
 public_inputs() lists the uniforms of an element's shader that a document input sets (or would set): each with
-the node and input it belongs to, the nodedef's ui metadata (uiname, uifolder, uimin, uimax, uisoftmin,
-uisoftmax, uistep, enum, enumvalues) and where it is written: the line the XML reader gave, and the input's name
-path in its file (nodegraph/node/input, as MaterialX's getNamePath) with the sha256 of the file's bytes, both
-confirmed against those bytes when the inputs are listed (record_sources).
+the node and input it belongs to (the uniform's Origin: the element's name path, the input, whether the document
+writes it; never read from the uniform's GLSL name), the nodedef's ui metadata (uiname, uifolder, uimin, uimax,
+uisoftmin, uisoftmax, uistep, enum, enumvalues) and where it is written: the uniform's FILE:LINE (an included
+file's own), and the input's name path in its file (nodegraph/node/input, as MaterialX's getNamePath) with the
+sha256 of the file's bytes, both confirmed against those bytes and the origin when the inputs are listed
+(record_sources).
 
 save_values() writes edited values back as the smallest edit of the file's bytes: the value attribute of the
 <input> is replaced (or added); an input the document does not author is added as one <input> line in its node
@@ -34,7 +36,8 @@ EDITABLE_TYPES = ("float", "integer", "boolean", "color3", "color4", "vector2", 
 @dataclass
 class PanelInput:
     uniform: str                # the shader's uniform (a texture's sampler for filename inputs)
-    node: str                   # the node (or nodegraph, for its interface inputs) the input belongs to
+    node: str                   # the name path of the node (or nodegraph, for its interface inputs) the input
+                                # belongs to ("NG/N" for a node in a nodegraph; "doc": the document's own inputs)
     input: str
     mtlx_type: str
     value: object               # the value the document gives (or the nodedef's default)
