@@ -141,7 +141,7 @@ def public_inputs(session, element):
                 continue
             # the element whose input it is: the uniform's own FILE:LINE (an element MaterialX reads twice over,
             # a node and a nodegraph of one name: the one the graph was built from)
-            if o.authored and (port is None or port.loc != u.loc) or not o.authored and (port is not None or decl.loc != u.loc):
+            if (port is None or port.loc != u.loc) if o.authored else (port is not None or decl.loc != u.loc):
                 continue
             decl_attrs, own_attrs = _attrs(decl), _attrs(port) if o.authored else {}
             enum = port.enum if o.authored and port.enum else decl.enum
