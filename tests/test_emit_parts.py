@@ -53,7 +53,7 @@ def test_closure_planning_is_plain_data_over_the_graph(tmp_path):
     mix = next(n.id for n in g.nodes if n.category == "mix")
     a, b = (next(n.id for n in g.nodes if n.id.startswith(x) and n.category != "mix") for x in "ab")
     conds = plan.conditions(mix)
-    assert conds == {mix: None, a: ("edge", mix, "{mix} != 0.0"), b: ("edge", mix, "{mix} != 1.0")}
+    assert conds == {mix: None, a: ("cmp", mix, "mix", "!=", 0.0), b: ("cmp", mix, "mix", "!=", 1.0)}
     assert closureplan.glsl(conds[a], lambda node_id: {"mix": "k"}) == "k != 0.0"
     assert closureplan.glsl(closureplan.disjoin(conds[a], closureplan.conjoin(conds[b], "w")),
                             lambda node_id: {"mix": "k"}) == "(k != 0.0) || (k != 1.0 && w)"
@@ -69,7 +69,7 @@ def test_closure_planning_is_plain_data_over_the_graph(tmp_path):
 
 def test_closure_condition_memo_is_by_identity_and_per_input_values():
     # take_plan writes a plan's conditions with one memo: shared parents written once, the same text as without it
-    edge_a, edge_b = ("edge", "m", "{mix} != 0.0"), ("edge", "n", "{mix} != 1.0")
+    edge_a, edge_b = closureplan.compare("m", "mix", "!=", 0.0), closureplan.compare("n", "mix", "!=", 1.0)
     parent = closureplan.conjoin(edge_a, "w")
     conds = [parent, closureplan.conjoin(parent, edge_b), closureplan.disjoin(closureplan.conjoin(parent, edge_b), edge_a)]
     values = {"m": {"mix": "k"}, "n": {"mix": "j"}}

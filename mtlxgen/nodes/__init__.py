@@ -10,6 +10,9 @@ template (str), or a dict with:
     "closure": {context: template} for BSDF / EDF / VDF nodes, evaluated by the shader node that uses
                them once per context ("reflection" per light, "indirect" for the environment,
                "transmission", "emission"); a context without a template gives the empty closure
+    "evaluate": the node's value computed in Python, term for term as the template computes it (nodevalue.py),
+               where the reduced interface folds a node of literal inputs (fold.py): one place for a node's
+               GLSL and its value
 An optional `NODEDEFS` table keyed by nodedef name overrides the category entry for one signature.
 
 Template fields (MaterialX's inline syntax, extended):
@@ -43,6 +46,7 @@ class Impl:
     external: tuple = None                        # (GLSL file path, function) from a document's <implementation>
     origin: str = "mtlxgen"
     source: tuple = None                          # (name, Loc) of a document's <implementation>
+    evaluate: object = None                       # the value in Python (nodevalue.evaluate), where it folds
 
 
 def _normalize(entry, origin):
@@ -52,7 +56,8 @@ def _normalize(entry, origin):
     if "expr" in entry:
         outputs["*"] = entry["expr"]
     return Impl(outputs=outputs, files=tuple(entry.get("files", ())), handler=entry.get("handler"),
-                closure=entry.get("closure"), opaque=bool(entry.get("opaque")), origin=origin)
+                closure=entry.get("closure"), opaque=bool(entry.get("opaque")), evaluate=entry.get("evaluate"),
+                origin=origin)
 
 
 BY_CATEGORY, BY_NODEDEF = {}, {}

@@ -11,6 +11,7 @@ cmlib node converts it in the shader, a constant is converted there (colorspaces
 """
 from ..colorspaces import (REMAP, SPACES, WORKING_SPACE, WORKING_SPACES, canonical,  # noqa: F401 (cmlib.X)
                            convert_value, is_working_space, nodedef_name, to_rec709_matrix)
+from ..nodevalue import np
 
 _SRGB = "cmlib/srgb_transfer.glsl"
 _GAMMA = "cmlib/gamma_transfer.glsl"
@@ -40,12 +41,19 @@ def transform(colorspace):
     return COLORSPACES[name] if name else None
 
 
+def _converter(space):
+    """The evaluator (nodevalue.py) of a conversion from `space`: colour3 or colour4, the alpha kept."""
+    return lambda i, t, o: np.asarray(convert_value(space, tuple(float(v) for v in i["in"])))
+
+
 def _nodedefs():
     out = {}
     for name, (files, template) in COLORSPACES.items():
-        out["ND_%s_to_lin_rec709_color3" % name] = {"expr": template.format(c="{{in}}"), "files": list(files)}
+        value = _converter(name)          # the same transform on a value (colorspaces.convert_value)
+        out["ND_%s_to_lin_rec709_color3" % name] = {"expr": template.format(c="{{in}}"), "files": list(files),
+                                                    "evaluate": value}
         out["ND_%s_to_lin_rec709_color4" % name] = {
-            "expr": "vec4(%s, {{in}}.a)" % template.format(c="{{in}}.rgb"), "files": list(files)}
+            "expr": "vec4(%s, {{in}}.a)" % template.format(c="{{in}}.rgb"), "files": list(files), "evaluate": value}
     return out
 
 
