@@ -15,7 +15,7 @@ import pytest
 
 from conftest import ROOT
 
-from mtlxgen import fold, pipeline, reduce
+from mtlxgen import closureplan, fold, pipeline, reduce
 from mtlxgen.reference import node_value
 
 # (case name, category, output type, [(input, type, value)], output name of a multi-output node or None)
@@ -223,16 +223,26 @@ def test_undefined_values_are_left_to_the_gpu(tmp_path, category, inputs):
 
 
 def test_static_conditions():
-    sc = fold.static_condition
-    assert sc("1.0 >= 1.0e-6") is True
-    assert sc("0.0 >= 1.0e-6") is False
-    assert sc("x != 0.0 && 1.0 >= 1.0e-6") == "x != 0.0"
-    assert sc("(0.0 != 0.0) || (y != 1.0)") == "y != 1.0"
-    assert sc("0.5 != 0.0 && 0.5 != 1.0") is True
-    assert sc("a != 0.0 && 0.0 != 0.0") is False
-    assert sc("(a != 0.0 && 1.0 != 1.0) || (b != 1.0 && c >= 1.0e-6)") == "b != 1.0 && c >= 1.0e-6"
-    assert sc("(a != 0.0) || (b != 0.0) && 1.0 >= 1.0e-6") == "a != 0.0 || b != 0.0"
-    assert sc("f(x, (y)) > 0.0 &&") == "f(x, (y)) > 0.0 &&"          # what it does not read is left alone
+    # the guards the emitter writes, decided on the literals they compare (closureplan.decide, over the tree)
+    lit = {("one", "weight"): 1.0, ("zero", "weight"): 0.0, ("z", "mix"): 0.0, ("h", "mix"): 0.5, ("u", "mix"): 1.0}
+    value = lambda node_id, name: lit.get((node_id, name), closureplan.UNKNOWN)     # noqa: E731
+    x, y = closureplan.compare("x", "mix", "!=", 0.0), closureplan.compare("y", "mix", "!=", 1.0)
+    c = closureplan.weighed("c")
+    def ne0(n):
+        return closureplan.compare(n, "mix", "!=", 0.0)
+
+    def ne1(n):
+        return closureplan.compare(n, "mix", "!=", 1.0)
+
+    decide, conjoin, disjoin = closureplan.decide, closureplan.conjoin, closureplan.disjoin
+    assert decide(closureplan.weighed("one"), value) is True
+    assert decide(closureplan.weighed("zero"), value) is False
+    assert decide(conjoin(x, closureplan.weighed("one")), value) is x
+    assert decide(disjoin(ne0("z"), y), value) is y
+    assert decide(conjoin(ne0("h"), ne1("h")), value) is True
+    assert decide(conjoin(x, ne0("z")), value) is False
+    assert decide(disjoin(conjoin(x, ne1("u")), conjoin(y, c)), value) == conjoin(y, c)
+    assert decide(conjoin(disjoin(x, y), closureplan.weighed("one")), value) == disjoin(x, y)
 
 
 def _ss_document(tmp_path, inputs):
