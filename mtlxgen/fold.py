@@ -155,7 +155,7 @@ def fold(graph):
     out = replace(graph, nodes=graphwalk.prune(kept, [result]),        # only what the result still reads
                   result=result, uniforms={k: replace(u) for k, u in graph.uniforms.items()},
                   warnings=list(graph.warnings))
-    out.static_guards = True        # emit.Emitter.closure: guards on literals decided here (static_condition)
+    out.static_guards = True        # the emitter decides guards on literals (closureplan.decide)
     return out
 
 
@@ -179,6 +179,8 @@ def _fold_node(node, ins, impl):
 
 
 # ---------------------------------------------------------------- guards decided at generation time
+# (text read back: kept only while emit.Emitter.closure still calls it; closureplan.decide decides guards on the
+# condition tree, and this goes with that change)
 
 _ATOM = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(==|!=|>=|<=|>|<)\s*"
                    r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*$")
