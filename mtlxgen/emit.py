@@ -18,7 +18,7 @@ import os
 import re
 from dataclasses import dataclass, field
 
-from . import closureplan, glsldeps, interface, mxtypes, nodes, streams, targets
+from . import closureplan, functions, glsldeps, graphwalk, interface, mxtypes, nodes, streams, targets
 from . import template as template_expander
 from .diagnostics import Loc, MtlxError
 from .graphtypes import Uniform, is_plain_name, sha256, unique_identifier
@@ -248,10 +248,17 @@ class Emitter:
         self.block = 0                # serial of the current closure block (closure variables live in it)
         self.closure_vars = {}        # (block, node id, output) -> variable
         self.closure_plan = closureplan.ClosurePlan(graph)   # when each closure node is needed
-        self.conditions = {}          # closure node id -> GLSL condition under which it is needed (None: always)
+        self.conditions = {}          # closure node id -> GLSL condition under which it is needed (None: always;
+                                      # False: never, decided on literals in the reduced interface)
         self._contexts = []           # contexts of the enclosing blocks
         self.current = None           # the node being emitted (errors of the streams it asks for name it)
         self.document_code = []       # [((name, Loc) of a document's <implementation>, {GLSL lines it made})]
+        self.functions = {}           # GLSL name -> FunctionCode of the functions the stage calls, callees first
+        self.function_types = set()   # the types their bodies use (struct declarations)
+        self.function_switches = None  # the paste switches every function's body allows (None: no function)
+        for n in graph.nodes:         # a variable must not hide a function the stage calls
+            if n.function is not None:
+                self.names.add(n.function.base)
 
     # ---------- services for templates and handlers ----------
     def fail(self, node, message):
@@ -335,8 +342,7 @@ class Emitter:
         return t
 
     def fresh(self, stem):
-        """A variable's name from `stem` (each name the emission takes goes through here: emitcache.py records
-        the stems)."""
+        """A variable's name from `stem`, unique in the stage (each name the emission takes goes through here)."""
         return unique_identifier(stem, self.names)
 
     def uniform(self, name):
@@ -401,16 +407,19 @@ class Emitter:
         saved, self.context = self.context, context
         zero = mxtypes.closure_zero(src.type)          # what the lobe is where it is not computed
         try:
-            cond = self.conditions.get(node.id)
+            cond = self.conditions.get(node.id)        # GLSL text; None: always; False: never (take_plan)
             if impl.closure is not None:
                 template = impl.closure.get(context)
                 expr = self.render(template, node, src.type) if template else zero
                 weight = node.inputs.get("weight")
                 if template and src.type == "BSDF" and weight is not None and weight.type == "float":
                     # a BSDF of (near) zero weight is the empty closure whatever its other inputs are
-                    # (as in MaterialX: e.g. gltf_pbr's sheen colour is 0/0 when sheen is off)
-                    weighed = "%s >= 1.0e-6" % self.input_expr(node, "weight")
-                    cond = closureplan.glsl(closureplan.conjoin(cond, weighed), None)     # "cond && weighed"
+                    # (as in MaterialX: e.g. gltf_pbr's sheen colour is 0/0 when sheen is off): closureplan.weighed
+                    weighed = closureplan.weighed(node.id)
+                    if getattr(self.graph, "static_guards", False):        # the reduced interface (fold.py)
+                        weighed = closureplan.decide(weighed, self.closure_plan.literal_value)
+                    cond = closureplan.glsl(closureplan.conjoin(cond, weighed),               # "cond && weighed"
+                                            lambda node_id: {"weight": self.input_expr(node, "weight")})
                     if impl.opaque and context in _OPAQUE_CONTEXTS:
                         # but a lobe that lets nothing through (a diffuse one) stays opaque at zero weight, black
                         # over what is under it, as MaterialX's: its throughput is 0 at every weight, so the
@@ -425,11 +434,8 @@ class Emitter:
                 self.fail(node, "closure node without a closure implementation")
         finally:
             self.context = saved
-        if cond is not None and getattr(self.graph, "static_guards", False):
-            # reduced interface (fold.py): a guard on literals is decided here, one always true is dropped
-            from .fold import static_condition
-            cond = static_condition(cond)
-            expr, cond = (zero, None) if cond is False else (expr, None if cond is True else cond)
+        if cond is False:           # decided on literals (the reduced interface): never needed, never computed
+            expr, cond = zero, None
         var = self.fresh("%s_%s" % (node.id, src.output))
         first = len(self.body)
         w = self.writer
@@ -449,10 +455,14 @@ class Emitter:
         return var
 
     def take_plan(self, root):
-        """The closure plan's conditions for the closure nodes upstream of `root`, written as GLSL; a node
-        planned before keeps its first condition."""
-        plan = self.closure_plan.conditions(root)      # (kept by the plan: the memo's ids stay theirs)
+        """The closure plan's conditions for the closure nodes upstream of `root`, written as GLSL (None: always);
+        a node planned before keeps its first condition. Where the graph's guards are decided at generation time
+        (static_guards: the reduced interface, fold.py), each condition is first decided on the literal inputs it
+        compares (closureplan.decide): one always true is None, one never true False."""
+        plan = self.closure_plan.conditions(root)
         values, memo = {}, {}
+        decided = {} if getattr(self.graph, "static_guards", False) else None
+        literal_value = self.closure_plan.literal_value
 
         def input_values(node_id):                      # condition_values, once per node in this plan
             v = values.get(node_id)
@@ -460,9 +470,12 @@ class Emitter:
                 v = values[node_id] = self.condition_values(node_id)
             return v
 
+        conditions = self.conditions
         for node_id, cond in plan.items():
-            text = closureplan.glsl(cond, input_values, memo)
-            self.conditions.setdefault(node_id, text)
+            if node_id not in conditions:
+                if decided is not None:
+                    cond = closureplan.decide(cond, literal_value, decided)
+                conditions[node_id] = closureplan.glsl(cond, input_values, memo)
 
     def condition_values(self, node_id):
         """{input: GLSL expression} of the values a closure node's edge conditions read."""
@@ -483,6 +496,9 @@ class Emitter:
 
     def emit_node(self, node):
         self.current = node
+        if node.function is not None:
+            self.call(node)
+            return
         impl = nodes.lookup(node.nodedef, self.graph.library)
         if impl is None:
             self.fail(node, "no GLSL implementation for nodedef %s" % node.nodedef.name)
@@ -519,6 +535,69 @@ class Emitter:
         if impl.source is not None:
             self.note_document_code(impl, self.body[first_line:] + [
                 line for _, text in self.external[first_file:] for line in text.splitlines()])
+
+    # ---------- nodegraph implementations as functions (functions.py) ----------
+    def call(self, node):
+        """A call node: its function (the variant its compile-time inputs choose, emitted once per settings) called
+        with its inputs, one variable per output."""
+        code = self.function_code(node)
+        self.use_function(code)
+        args = [self.expr(node.inputs[name]) for name in code.parameters]
+        for oname, otype in node.outputs.items():
+            var = self.fresh("%s_%s" % (node.id, oname))
+            self.line("%s %s;" % (self.glsl_type(otype), var))
+            args.append(var)
+            self.vars[(node.id, oname)] = var
+        self.line("%s(%s);" % (code.name, ", ".join(args)))
+
+    def settings(self):
+        """What a function's emitted text depends on besides its body."""
+        return (self.stage, self.target.name, self.environment, self.max_lights, self.compact)
+
+    def function_code(self, node):
+        """The FunctionCode call node `node` calls: Family.variants walked from nothing fixed, each compile-time
+        input the body reads fixed to the node's value, until the body emits."""
+        family, settings, fixed = node.function, self.settings(), ()
+        while True:
+            key = (settings, fixed)
+            entry = family.variants.get(key)
+            if entry is None:
+                if len(family.variants) >= functions.VARIANTS_MAX:
+                    family.variants.clear()
+                body, _, _ = family.body(dict(fixed))
+                try:
+                    entry = ("code", FunctionEmitter(body, family, family.name(fixed), self).emit_function())
+                except functions.CompileTime as e:
+                    if e.family is not family:
+                        raise
+                    entry = ("input", e.name)
+                family.variants[key] = entry
+            if entry[0] == "code":
+                return entry[1]
+            src = node.inputs[entry[1]]
+            if src.node is not None:
+                raise functions.Inline(node, entry[1])
+            fixed += ((entry[1], functions.value_key(src.value)),)
+
+    def use_function(self, code):
+        """The stage calls `code`: its callees and it are declared before main, what its body reads is the stage's."""
+        if code.name in self.functions:
+            return
+        for callee in code.callees:
+            self.use_function(callee)
+        self.functions[code.name] = code
+        for f in code.files:
+            if f not in self._required:
+                self.require(f)
+        self.app_uniforms.update(code.app_uniforms)
+        for name, stream in code.streams.items():
+            self.streams.setdefault(name, stream)
+        for name, t in code.attributes.items():
+            self.attributes.setdefault(name, t)     # (a vertex stage's body: its emitter has attributes)
+        self.uses_closures = self.uses_closures or code.uses_closures
+        self.function_types |= code.types
+        self.function_switches = set(code.switches) if self.function_switches is None else \
+            self.function_switches & code.switches
 
     def external_call(self, node, external):
         path, function, loc = external
@@ -626,20 +705,13 @@ class Emitter:
             film = node.inputs.get("thinfilm_thickness")
             if film is not None and not (film.literal and _at_most_zero(film.value)):
                 return set()
-        return set() if self.external else {"MG_NO_THIN_FILM"}
+        if self.external:
+            return set()
+        return {"MG_NO_THIN_FILM"} if self.function_switches is None else {"MG_NO_THIN_FILM"} & self.function_switches
 
     def reachable(self, src, skip=None):
         """Ids of the nodes `src` depends on, not following the (node id, input) edge `skip`."""
-        by_id = {n.id: n for n in self.graph.nodes}
-        seen, stack = set(), [src.node] if src.node is not None else []
-        while stack:
-            node_id = stack.pop()
-            if node_id not in seen:
-                seen.add(node_id)
-                for k, v in by_id[node_id].inputs.items():
-                    if v.node is not None and v.node not in seen and (node_id, k) != skip:
-                        stack.append(v.node)
-        return seen
+        return graphwalk.upstream({n.id: n for n in self.graph.nodes}, [src], skip)
 
     def emit(self):
         g = self.graph
@@ -657,20 +729,9 @@ class Emitter:
                 if node.id in vertex_ids:
                     vertex_emitter.emit_node(node)
             vertex_emitter.result = vertex_emitter.expr(disp)
-        # kept expansions' nodes from their kept emission where it can be (emitcache.py)
-        runs = g.expansion_runs if vertex_emitter is None and type(self) is Emitter else None
-        if runs:
-            from .emitcache import emit_run
-        nodes_, i, n = g.nodes, 0, len(g.nodes)
-        while i < n:
-            run = runs.get(i) if runs else None
-            if run is not None and emit_run(self, run, fragment_ids):
-                i += len(run.ids)
-                continue
-            node = nodes_[i]
+        for node in g.nodes:
             if node.id in fragment_ids:
                 self.emit_node(node)
-            i += 1
         self.current = None
         out_expr = self.output_statement(g.result)
         if any(not mxtypes.CLOSURE_NAMES.isdisjoint(n.outputs.values()) for n in g.nodes if n.id in fragment_ids):
@@ -685,18 +746,21 @@ class Emitter:
         if lit:
             frag.extend("#define " + d for d in _ENVIRONMENT_DEFINES[self.environment])
         used = {s.type for n in g.nodes for s in n.inputs.values()} | {
-            t for n in g.nodes for t in n.outputs.values()} | {g.result.type} | {u.type for u in g.uniforms.values()}
+            t for n in g.nodes for t in n.outputs.values()} | {g.result.type} | {u.type for u in g.uniforms.values()} | \
+            self.function_types
         frag += decl.uniforms("fragment", self.app_uniforms, list(g.uniforms.values()), used)
         frag += decl.varyings("in", list(self.streams.values()))
         frag.append("layout(location = 0) out vec4 out_color;")
         frag.append("")
         roots = frag + self.body + [out_expr]
         joined = "\n".join(roots)          # one text to scan, not one per line (a `/*` may span lines: then each)
-        roots = ([joined] if "/*" not in joined else roots) + [text for _, text in self.external]
+        roots = ([joined] if "/*" not in joined else roots) + [text for _, text in self.external] + [
+            code.text for code in self.functions.values()]
         frag += self.library_code(self.files, roots)
         for path, text in self.external:
             frag.append("// ---- %s" % comment_text(os.path.basename(path)))
             frag.append(text.rstrip() + "\n")
+        frag += function_texts(self.functions)
         frag.append("void main()")
         frag.append("{")
         frag.extend(self.body)
@@ -794,7 +858,7 @@ class VertexStage:
         if displacer is not None:
             g = em.graph
             used |= {s.type for n in g.nodes if n.id in displacer.vars_owner for s in n.inputs.values()} | {
-                t for n in g.nodes if n.id in displacer.vars_owner for t in n.outputs.values()}
+                t for n in g.nodes if n.id in displacer.vars_owner for t in n.outputs.values()} | displacer.function_types
         lines += decl.uniforms("vertex", self.app_uniforms, self.material, used)
         lines += decl.varyings("out", list(em.streams.values()))
         body = ["    vec4 world_position = u_worldMatrix * vec4(i_position, 1.0);"]
@@ -804,7 +868,9 @@ class VertexStage:
             body += ["    displacementshader mg_displacement = %s;" % displacer.result,
                      "    world_position = u_worldMatrix * vec4(i_position + mg_displacement.offset * "
                      "mg_displacement.scale, 1.0);"]
-            lines += em.library_code(files, lines + body)
+            calls = function_texts(displacer.functions)
+            lines += em.library_code(files, lines + body + calls)
+            lines += calls
         lines += ["", "void main()", "{"] + body
         lines += ["    gl_Position = u_viewProjectionMatrix * world_position;"]
         lines += ["    v_%s = %s;" % (s.name, s.vertex) for s in em.streams.values()]
@@ -949,6 +1015,76 @@ class VertexEmitter(Emitter):
             self.attributes.setdefault(a, t)
         self.app_uniforms.update(s.uniforms)
         return "(%s)" % s.fragment.format("(%s)" % s.vertex)
+
+
+@dataclass(frozen=True)
+class FunctionCode:
+    """A nodegraph implementation's function as one stage emits it (functions.Family.variants keeps it)."""
+    name: str                         # GLSL name
+    text: str                         # the definition: `void NAME(params, out outputs) { ... }`
+    parameters: tuple                 # the inputs the call passes, in order (then one variable per output)
+    callees: tuple                    # FunctionCode of the functions its body calls, callees first
+    files: tuple                      # glsl_lib files its body needs
+    app_uniforms: frozenset           # application uniforms its body reads
+    streams: dict                     # geometric streams its body reads: name -> streams.Stream
+    attributes: dict                  # vertex attributes its body reads (a vertex stage's): name -> GLSL type
+    uses_closures: bool
+    types: frozenset                  # types its body uses (struct declarations)
+    switches: frozenset               # the glsldeps paste switches its body allows
+
+
+class FunctionEmitter(Emitter):
+    """Emits a function's body (functions.Family.body) under the settings of the emitter `caller` (its stage,
+    target, environment method, lights): the body's nodes are main's were it inlined, the parameters read as
+    variables. What a material declares (uniforms, textures, primvars, a document's GLSL) never comes from a body:
+    functions.py inlines those."""
+
+    def __init__(self, body, family, name, caller):
+        super().__init__(body, caller.environment, caller.target.name, caller.max_lights, caller.compact)
+        self.stage, self.name, self.family = caller.stage, name, family
+        self.vertex = caller.stage == "vertex"
+        self.attributes = {}
+        self.names.update(body.parameters.values())
+        self.outputs = {oname: self.fresh("out_" + oname) for oname in body.outputs}
+
+    def stream(self, name, mx_type=None, node=None):
+        if self.vertex:
+            return VertexEmitter.stream(self, name, mx_type, node)
+        return super().stream(name, mx_type, node)
+
+    def emit_function(self):
+        g = self.graph
+        ids = set()
+        for src in g.outputs.values():
+            ids |= self.reachable(src)
+        for node in g.nodes:
+            if node.id in ids:
+                self.emit_node(node)
+        self.current = None
+        for oname, src in g.outputs.items():
+            self.line("%s = %s;" % (self.outputs[oname], self.expr(src)))
+        if self.graph.uniforms or self.textures or self.primvars or self.external or self.document_code:
+            raise RuntimeError("the body of %s declares what its material should (uniforms, textures, a document's "
+                               "GLSL): functions.py should have inlined it" % g.element)
+        nd = self.family.nodedef
+        decls = ["%s %s" % (self.glsl_type(nd.inputs[name].type), param) for name, param in g.parameters.items()]
+        decls += ["out %s %s" % (self.glsl_type(nd.outputs[oname].type), var) for oname, var in self.outputs.items()]
+        if any(not mxtypes.CLOSURE_NAMES.isdisjoint(n.outputs.values()) for n in g.nodes if n.id in ids) or \
+                not mxtypes.CLOSURE_NAMES.isdisjoint(nd.outputs[o].type for o in self.outputs):
+            self.uses_closures = True
+        text = "\n".join(["// %s" % comment_text("%s, from nodegraph %s" % (nd.name, self.family.impl.name)),
+                          "void %s(%s)" % (self.name, ", ".join(decls)), "{"] + self.body + ["}"]) + "\n"
+        types = {s.type for n in g.nodes for s in n.inputs.values()} | {
+            t for n in g.nodes for t in n.outputs.values()} | {nd.inputs[name].type for name in g.parameters} | {
+            nd.outputs[o].type for o in self.outputs} | self.function_types
+        return FunctionCode(self.name, text, tuple(g.parameters), tuple(self.functions.values()), tuple(self.files),
+                            frozenset(self.app_uniforms), dict(self.streams), dict(self.attributes), self.uses_closures,
+                            frozenset(types), frozenset(self.paste_switches()))
+
+
+def function_texts(codes):
+    """The definitions of the functions a stage calls, in order (callees first)."""
+    return [code.text for code in codes.values()]
 
 
 def struct_order(names, structs):

@@ -20,7 +20,6 @@ static_guards: the emitter decides the closure guards whose conditions are now l
 evaluate() is the node tables' values in Python by category and nodedef: the tests compare it with the GLSL's pixels
 (tests/test_fold.py) and reference.node_value is it.
 """
-import re
 from dataclasses import replace
 
 import numpy as np
@@ -176,82 +175,3 @@ def _fold_node(node, ins, impl):
     except (NotFoldable, KeyError, TypeError, ValueError, IndexError):
         return None
     return {oname: Source(otype, value=v, loc=node.loc)}
-
-
-# ---------------------------------------------------------------- guards decided at generation time
-# (text read back: kept only while emit.Emitter.closure still calls it; closureplan.decide decides guards on the
-# condition tree, and this goes with that change)
-
-_ATOM = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(==|!=|>=|<=|>|<)\s*"
-                   r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*$")
-_OPS = {"==": lambda a, b: a == b, "!=": lambda a, b: a != b, ">=": lambda a, b: a >= b, "<=": lambda a, b: a <= b,
-        ">": lambda a, b: a > b, "<": lambda a, b: a < b}
-
-
-def _tokens(text):
-    return [t for t in re.split(r"(&&|\|\||\(|\))", text) if t.strip()]
-
-
-def static_condition(text):
-    """A closure guard (emit.Emitter.closure: comparisons joined by && and ||, parenthesized) with its comparisons
-    of two literals decided: True, False, or the text of what remains (the constant terms dropped). Text it does not
-    read is returned as it is."""
-    toks = _tokens(text)
-    pos = [0]
-
-    def peek():
-        return toks[pos[0]] if pos[0] < len(toks) else None
-
-    def take():
-        pos[0] += 1
-        return toks[pos[0] - 1]
-
-    def parse_chain(op, parse_term, absorbing):
-        """Terms joined by `op`, decided where a term is `absorbing` (True for ||, False for &&), the others'
-        identity dropped."""
-        terms = [parse_term()]
-        while peek() == op:
-            take()
-            terms.append(parse_term())
-        if any(t is absorbing for t in terms):
-            return absorbing
-        terms = [t for t in terms if t is not (not absorbing)]
-        if not terms:
-            return not absorbing
-        return terms[0] if len(terms) == 1 else (" %s " % op).join(_wrap(t) for t in terms)
-
-    def parse_or():
-        return parse_chain("||", parse_and, True)
-
-    def parse_and():
-        return parse_chain("&&", parse_primary, False)
-
-    def parse_primary():
-        t = peek()
-        if t == "(":
-            take()
-            inner = parse_or()
-            if take() != ")":
-                raise ValueError("unbalanced")
-            return inner
-        if t in (None, ")", "&&", "||"):
-            raise ValueError("expected a comparison")
-        atom = take().strip()
-        m = _ATOM.match(atom)
-        if m:
-            return bool(_OPS[m.group(2)](float(m.group(1)), float(m.group(3))))
-        if atom in ("true", "false"):
-            return atom == "true"
-        return atom
-
-    try:
-        out = parse_or()
-        if pos[0] != len(toks):
-            return text
-        return out
-    except (ValueError, IndexError):
-        return text
-
-
-def _wrap(t):
-    return "(%s)" % t if ("&&" in t or "||" in t) else t

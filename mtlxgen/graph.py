@@ -9,7 +9,7 @@ uniforms of the material. Cycles, unknown nodes and type mismatches are reported
 """
 from dataclasses import replace
 
-from . import colorspaces, mxtypes
+from . import colorspaces, graphwalk, mxtypes
 from .diagnostics import Loc, MtlxError, Problems, Warnings
 # the graph's data types and naming rules live in a leaf module; named here too, as graph.X, for the callers
 from .graphtypes import (IDENTIFIER_CHARS, GNode, Graph, Origin, Source, Uniform,  # noqa: F401
@@ -63,8 +63,9 @@ class BuildRules:
 
 
 class GraphBuilder:
-    def __init__(self, doc, library, rules):
+    def __init__(self, doc, library, rules, functions=False):
         self.doc = doc
+        self.functions = functions    # nodegraph implementations called as functions where they can be (functions.py)
         self.rules = rules            # the target's BuildRules (nodedefs it implements, USD's seed rules)
         self.lib = library.overlay(doc)
         self.problems = Problems()
@@ -79,9 +80,7 @@ class GraphBuilder:
         self.graph_path = []          # "graph.output" of document nodegraph outputs being resolved
         self.direct_graph = None      # the nodegraph whose output is the element drawn (its inputs: sockets)
         self.warnings = Warnings()    # slips MaterialX reads on, met while building (each read as MaterialX reads it)
-        self.recording = None         # the id stems of an expansion being recorded (expansion())
-        self.foreign = False          # the expansion being recorded read what its key does not hold
-        self.kept_runs = []           # (template, ids, inputs) of each kept expansion made (emitcache.py)
+        self.foreign = False          # it read the document's own nodegraphs, outputs or geompropdefs (functions.py)
 
     def warn(self, loc, message):
         self.warnings.add(loc, message)
@@ -93,8 +92,6 @@ class GraphBuilder:
 
     # ---------- names ----------
     def new_id(self, stem):
-        if self.recording is not None:
-            self.recording.append(stem)
         return unique_identifier(stem, self.used_ids)
 
     def add_node(self, stem, nd, inputs, loc, static=None):
@@ -440,8 +437,10 @@ class GraphBuilder:
 
     # ---------- nodes ----------
     def geom_source(self, geomprop_name, loc, scope):
-        self.foreign = True
-        gp = self.lib.geompropdefs.get(geomprop_name) or self.doc.geompropdefs.get(geomprop_name)
+        gp = self.lib.geompropdefs.get(geomprop_name)
+        if gp is None:
+            gp = self.doc.geompropdefs.get(geomprop_name)
+            self.foreign = True
         if gp is None:
             raise MtlxError((loc, "unknown defaultgeomprop '%s'" % geomprop_name))
         if gp.name in self.geom_memo:
@@ -604,76 +603,23 @@ class GraphBuilder:
             if len(self.expanding) >= MAX_SCOPE_DEPTH:
                 raise MtlxError((node.loc, "nodegraph implementations nest more than %d deep (from %s)"
                                  % (MAX_SCOPE_DEPTH, self.expanding[0])))
+            if self.functions:
+                from .functions import function_for
+                family = function_for(self, nd, impl_graph, inputs)
+                if family is not None:          # one call node: the body is emitted once, as a function
+                    ident = self.add_node(stem, nd, {k: s for k, s in inputs.items() if k in family.reads}, node.loc,
+                                          static)
+                    self.nodes[ident].function = family
+                    return {oname: Source(t, node=ident, output=oname, loc=node.loc)
+                            for oname, t in self.nodes[ident].outputs.items()}
             self.expanding.append(nd.name)
             try:
-                return self.expansion(node, nd, impl_graph, inputs, stem, scope)
+                return self._expand(node, nd, impl_graph, inputs, stem, scope)
             finally:
                 self.expanding.pop()
         ident = self.add_node(stem, nd, inputs, node.loc, static)
         return {oname: Source(t, node=ident, output=oname, loc=node.loc)
                 for oname, t in self.nodes[ident].outputs.items()}
-
-    # ---------- expansions kept per library ----------
-    # A library nodegraph implementation (standard_surface's, open_pbr_surface's: 80-130 nodes) expanded at the top
-    # level (not inside another expansion) is a function of what the walk reads: the nodegraph, the library, the
-    # rules, the document's colour space, and of the outer node's input Sources only their types, kinds (linked,
-    # a uniform, a literal) and literal values (string inputs become static values; a literal is copied into
-    # nodes); the uniforms' and linked outputs' names are passed through, never read. The walk's first run is
-    # recorded as a template (each node's id stem after the outer stem, its inputs as references to the template's
-    # nodes, to the outer inputs or constants); a repeat with the same key makes the same nodes, ids and Sources in
-    # the same order by replaying it: each id from unique_identifier on the same stems in the same order, the outer
-    # inputs substituted. Only a walk that reads nothing else is kept: one that warns, adds a uniform, reads the
-    # geometry (geom_source: its memo is the builder's) or a document nodegraph or output is run in full each time,
-    # as is any expansion in a library that a document overlays with its own definitions (those may be edited).
-    # A key is recorded the second time it is met (_SEEN the first) and replayed from the third on.
-    EXPANSIONS_MAX = 1024
-
-    def expansion(self, node, nd, impl_graph, inputs, stem, scope):
-        """_expand, from the library's kept template where there is one (replayed), else recorded where it can be."""
-        if self.recording is not None or len(self.expanding) != 1 or getattr(self.lib, "overlaid", None) is not None:
-            return self._expand(node, nd, impl_graph, inputs, stem, scope)
-        key = self._expansion_key(nd, impl_graph, inputs)
-        if key is None:
-            return self._expand(node, nd, impl_graph, inputs, stem, scope)
-        kept = self.lib.expansions
-        template = kept.get(key, _UNSEEN)
-        if template is _UNSEEN:             # seen first: walked, not recorded (a process generating one material
-            if len(kept) >= self.EXPANSIONS_MAX:        # pays nothing for what it would never replay)
-                kept.clear()
-            kept[key] = _SEEN
-            return self._expand(node, nd, impl_graph, inputs, stem, scope)
-        if template is not _SEEN:
-            if template is not None and template.graph is impl_graph:
-                return template.replay(self, stem, inputs)
-            if template is None:            # recorded before and found not to be kept
-                return self._expand(node, nd, impl_graph, inputs, stem, scope)
-        first, uniforms, warnings = len(self.order), len(self.uniforms), len(self.warnings.items)
-        self.recording, self.foreign = [], False
-        try:
-            outs = self._expand(node, nd, impl_graph, inputs, stem, scope)
-            stems = self.recording
-        finally:
-            self.recording = None
-        kept[key] = None                    # (the key is there already, _SEEN: the dict does not grow)
-        if not self.foreign and len(self.uniforms) == uniforms and len(self.warnings.items) == warnings:
-            template = kept[key] = _Expansion.record(self, impl_graph, stem, stems, self.order[first:], inputs, outs)
-            if template is not None:
-                self.kept_runs.append((template, self.order[first:], inputs))
-        return outs
-
-    def _expansion_key(self, nd, impl_graph, inputs):
-        # and which inputs are one Source (normal and coat_normal both the geometry's normal): a template refers to
-        # an input by the Source's identity
-        first = {}
-        sig = tuple((name, first.setdefault(id(s), name), s.type, s.node is not None, s.output, s.uniform is not None,
-                     s.value if s.node is None and s.uniform is None else None, s.colorspace, s.unit, s.unittype)
-                    for name, s in inputs.items())
-        key = (nd.name, id(impl_graph), self.rules, self.doc.colorspace, sig)
-        try:
-            hash(key)
-        except TypeError:                   # a value that is a list: not kept
-            return None
-        return key
 
     def _expand(self, node, nd, impl_graph, inputs, stem, scope):
         """Instantiate a nodegraph implementation in place of `node`; returns its output sources, in the
@@ -704,7 +650,20 @@ class GraphBuilder:
         return outs
 
     def child_prefix(self, stem):
-        return stem + "_"
+        return stem + "_" if stem else ""
+
+    def expand_implementation(self, nd, impl_graph, inputs, stem, loc):
+        """The output Sources of nodegraph implementation `impl_graph` of `nd` instantiated over `inputs` (a function's
+        body: functions.py), its node ids from `stem`."""
+        if len(self.expanding) > MAX_SCOPE_DEPTH:
+            raise MtlxError((loc, "nodegraph implementations nest more than %d deep (from %s)"
+                             % (MAX_SCOPE_DEPTH, self.expanding[0])))
+        return self._expand(_At(loc), nd, impl_graph, inputs, stem, None)
+
+    def upstream(self, sources):
+        """The nodes `sources` depend on, in the order they were made (dependencies first)."""
+        needed = graphwalk.upstream(self.nodes, sources)
+        return [self.nodes[i] for i in self.order if i in needed]
 
     def _has_leaf_impl(self, nd):
         return self.rules.implements(nd, self.lib)
@@ -725,16 +684,7 @@ class GraphBuilder:
 
     def build_result(self, result, element, kind="output"):
         """The pruned, ordered Graph of everything `result` depends on."""
-        # prune: keep only nodes reachable from the result
-        needed, stack, by_id = set(), [result.node] if result.node is not None else [], self.nodes
-        while stack:
-            node_id = stack.pop()
-            if node_id not in needed:
-                needed.add(node_id)
-                for s in by_id[node_id].inputs.values():
-                    if s.node is not None and s.node not in needed:
-                        stack.append(s.node)
-        nodes = [self.nodes[i] for i in self.order if i in needed]
+        nodes = self.upstream([result])         # prune: only the nodes the result needs
         used_uniforms = {s.uniform for n in nodes for s in n.inputs.values() if s.uniform}
         if result.uniform:
             used_uniforms.add(result.uniform)
@@ -742,8 +692,6 @@ class GraphBuilder:
         g = Graph(element=element, kind=kind, result=result, nodes=nodes, uniforms=uniforms,
                   structs=self.lib.structs, doc_path=self.doc.path, library=self.lib,
                   colorspace=self.doc.colorspace)
-        if self.kept_runs:
-            g.expansion_runs = expansion_runs(nodes, self.kept_runs)
         return g
 
     def _element_result(self, element):
@@ -781,134 +729,19 @@ class GraphBuilder:
         return "shader", src
 
 
-_UNSEEN, _SEEN = object(), object()      # GraphBuilder.expansion: a key not met yet / met once
+class _At:
+    """What _expand reads of the node it expands (its place): a function's body has none but the nodegraph's."""
+    __slots__ = ("loc",)
+
+    def __init__(self, loc):
+        self.loc = loc
 
 
-class _Expansion:
-    """A recorded expansion (GraphBuilder.expansion): the nodes it made, in order, each as its id stem after the
-    outer stem, its fields (category, nodedef, outputs, loc, static) and its inputs as references; its outputs as
-    references. A reference is ("node", index, Source): the Source reading node `index` of the expansion; ("input",
-    name): the outer input itself; ("typed", name, type): the outer input retyped (dataclasses.replace, as check_type
-    and _instantiate retype); ("constant", Source): a Source made inside, the same in every replay (Sources are never
-    changed once made)."""
-    __slots__ = ("graph", "stems", "nodes", "outputs", "emitted")
-
-    def __init__(self, graph, stems, nodes, outputs):
-        self.graph, self.stems, self.nodes, self.outputs = graph, stems, nodes, outputs
-        self.emitted = {}               # emitcache.py: emitter settings -> the recorded emission (or False)
-
-    @classmethod
-    def record(cls, builder, impl_graph, stem, stems, ids, inputs, outs):
-        """The template of an expansion just made (None where it cannot be replayed)."""
-        if len(stems) != len(ids) or not all(s.startswith(stem) for s in stems):
-            return None
-        index = {ident: i for i, ident in enumerate(ids)}
-        if len(index) != len(ids):
-            return None
-        by_identity = {id(s): name for name, s in inputs.items()}
-
-        def ref(s):
-            name = by_identity.get(id(s))
-            if name is not None and inputs[name] is s:
-                return ("input", name)
-            if s.node is not None and s.node in index:
-                return ("node", index[s.node], s)
-            typed = {id(outer): name for name, outer in inputs.items()
-                     if outer.loc is not None and s.type != outer.type and replace(outer, type=s.type) == s}
-            if len(typed) == 1:             # (two inputs, other Sources, equal: which one is not known)
-                return ("typed", next(iter(typed.values())), s.type)
-            if typed:
-                raise LookupError(s)
-            if s.node is None and s.uniform is None:
-                return ("constant", s)
-            raise LookupError(s)
-
-        try:
-            nodes = []
-            for ident in ids:
-                g = builder.nodes[ident]
-                nodes.append(((g.category, g.nodedef, dict(g.outputs), g.loc, dict(g.static)),
-                              [(name, ref(s)) for name, s in g.inputs.items()]))
-            outputs = [(name, ref(s)) for name, s in outs.items()]
-        except LookupError:                 # a Source from outside the expansion, not one of its inputs
-            return None
-        return cls(impl_graph, [s[len(stem):] for s in stems], nodes, outputs)
-
-    def replay(self, builder, stem, inputs):
-        """The expansion's outputs in `builder`, its nodes added: what _expand makes, for an outer node whose
-        expansion key is this template's (stem: the outer node's)."""
-        taken = builder.used_ids        # builder.new_id, inline (a replay is never recorded: expansion())
-        ids = [unique_identifier(stem + s, taken) for s in self.stems]
-        builder.kept_runs.append((self, ids, inputs))
-        made, outs = self.make(ids, inputs)
-        for node in made:
-            builder.nodes[node.id] = node
-            builder.order.append(node.id)
-        return outs
-
-    def make(self, ids, inputs):
-        """([GNode], {output: Source}): the expansion's nodes named `ids`, reading the outer inputs `inputs` (a
-        replay's; emitcache.py's over sentinel names)."""
-        def source(ref):
-            kind = ref[0]
-            if kind == "node":
-                s = ref[2]
-                return Source(s.type, s.value, s.uniform, ids[ref[1]], s.output, s.colorspace, s.unit, s.unittype,
-                              s.loc)
-            if kind == "input":
-                return inputs[ref[1]]
-            if kind == "typed":
-                return replace(inputs[ref[1]], type=ref[2])
-            return ref[1]
-
-        made = []
-        for ident, ((category, nodedef, outputs, loc, static), refs) in zip(ids, self.nodes):
-            node_inputs = {}
-            for name, r in refs:            # source(r), inline: the most frequent first
-                kind = r[0]
-                if kind == "node":
-                    s = r[2]
-                    node_inputs[name] = Source(s.type, s.value, s.uniform, ids[r[1]], s.output, s.colorspace, s.unit,
-                                               s.unittype, s.loc)
-                elif kind == "input":
-                    node_inputs[name] = inputs[r[1]]
-                else:
-                    node_inputs[name] = source(r)
-            made.append(GNode(ident, category, nodedef, node_inputs, dict(outputs), loc, dict(static)))
-        return made, {name: source(r) for name, r in self.outputs}
-
-
-class ExpansionRun:
-    """A kept expansion's nodes in one graph: graph.nodes[start:start + len(ids)]."""
-    __slots__ = ("template", "start", "ids", "inputs", "nodes")
-
-    def __init__(self, template, start, ids, inputs, nodes):
-        self.template, self.start, self.ids, self.inputs, self.nodes = template, start, ids, inputs, nodes
-
-    def __deepcopy__(self, memo):       # a view of the library's kept expansion (shared, as the library is)
-        return self
-
-
-def expansion_runs(nodes, kept_runs):
-    """{start index: ExpansionRun} of the kept expansions whose nodes all are in `nodes`, contiguous and in order
-    (emitcache.py reuses their emissions)."""
-    runs = {}
-    first = {ids[0]: (template, ids, inputs) for template, ids, inputs in kept_runs if ids}
-    for i, n in enumerate(nodes):
-        entry = first.get(n.id)
-        if entry is None:
-            continue
-        template, ids, inputs = entry
-        part = nodes[i:i + len(ids)]
-        if len(part) == len(ids) and all(p.id == ident for p, ident in zip(part, ids)):
-            runs[i] = ExpansionRun(template, i, ids, inputs, part)
-    return runs
-
-
-def build_graph(doc, library, element, rules, warnings=None):
+def build_graph(doc, library, element, rules, warnings=None, functions=False):
     """The Graph of one element under the target's BuildRules `rules`. warnings: a list that receives the
-    element's warnings (also where building stops with an MtlxError); they are the Graph's `warnings` too."""
-    builder = GraphBuilder(doc, library, rules)
+    element's warnings (also where building stops with an MtlxError); they are the Graph's `warnings` too.
+    functions: nodegraph implementations become call nodes where they can (functions.py; the complete interface)."""
+    builder = GraphBuilder(doc, library, rules, functions)
     try:
         g = builder.build(element)
         g.warnings = list(builder.warnings.items)

@@ -42,6 +42,7 @@ class GNode:
     outputs: dict                     # output name -> type
     loc: Loc
     static: dict = field(default_factory=dict)   # string/enum inputs: name -> value (compile time)
+    function: object = None           # functions.Function: the node calls its nodegraph implementation's function
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,9 +81,9 @@ class Graph:
     library: object = None
     colorspace: str = None            # the document's working colour space (None: files are not converted)
     warnings: list = field(default_factory=list)   # (Loc, message): slips MaterialX reads on, read as it reads them
-    # graph.ExpansionRun of each kept library expansion whose nodes lie contiguous in `nodes` (by start index): the
-    # runs emitcache.py may emit from a kept recording; not a constructor argument (a copy made by replace has none)
-    expansion_runs: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    # a function's body (functions.py): {output name: Source} it returns, {input name: parameter name} it takes
+    outputs: dict = None
+    parameters: dict = None
 
 
 _GLSL_RESERVED = set("""attribute const uniform varying layout centroid flat smooth noperspective patch sample

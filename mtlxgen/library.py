@@ -130,8 +130,8 @@ class Library:
     # find_nodedef's memos: (category, version, type) -> candidates, signature -> nodedef; cleared on any change
     _candidates: dict = field(default_factory=dict, init=False, repr=False, compare=False)
     _matches: dict = field(default_factory=dict, init=False, repr=False, compare=False)
-    # graph.py's expansions of nodegraph implementations (GraphBuilder.expansion): cleared on any change
-    expansions: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    # functions.py's nodegraph implementations as GLSL functions, by key (functions.Family): cleared on any change
+    functions: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def find_nodedef(self, category, version, node_type, inputs):
         """The nodedef a node of `category` (its `version`, output `node_type` and `inputs`, a dict of ports)
@@ -184,7 +184,7 @@ class Library:
     def _changed(self):
         self._candidates.clear()
         self._matches.clear()
-        self.expansions.clear()
+        self.functions.clear()
 
     def add_document(self, doc, overlay=False):
         self._changed()

@@ -279,47 +279,8 @@ def format_float(x):
     return s
 
 
-class Hole:
-    """A value not known yet (elementcache.py: an element's structure generated once for all its materials): carried
-    as any value is and written by glsl_literal as a placeholder (Hole.text), but refusing every other use (compared,
-    hashed, tested, converted, iterated, printed, an attribute read), each refusal counted in Hole.refused even where
-    the caller catches the TypeError: the code that meets one must not have made a choice from it."""
-    __slots__ = ("index",)
-    refused = 0
-
-    def __init__(self, index):
-        self.index = index
-
-    def text(self, type_name):
-        return "\x1e%d:%s\x1e" % (self.index, type_name)
-
-    def _refuse(self, *args):
-        Hole.refused += 1
-        raise TypeError("a value not known yet (elementcache.Hole) was read")
-
-    def __getattr__(self, name):
-        return self._refuse()
-
-    def __copy__(self):
-        return self
-
-    def __deepcopy__(self, memo):
-        return self
-
-    __eq__ = __ne__ = __lt__ = __le__ = __gt__ = __ge__ = __hash__ = __bool__ = _refuse
-    __float__ = __int__ = __index__ = __complex__ = __round__ = __trunc__ = __floor__ = __ceil__ = _refuse
-    __len__ = __iter__ = __contains__ = __getitem__ = __str__ = __repr__ = __format__ = __bytes__ = _refuse
-    __neg__ = __pos__ = __abs__ = __invert__ = _refuse
-    __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = __truediv__ = __rtruediv__ = _refuse
-    __floordiv__ = __rfloordiv__ = __mod__ = __rmod__ = __pow__ = __rpow__ = __divmod__ = __rdivmod__ = _refuse
-    __matmul__ = __rmatmul__ = __and__ = __rand__ = __or__ = __ror__ = __xor__ = __rxor__ = _refuse
-    __lshift__ = __rlshift__ = __rshift__ = __rrshift__ = _refuse
-
-
 def glsl_literal(type_name, value, structs=None):
     """Python value -> GLSL constant expression of the type's GLSL spelling."""
-    if value.__class__ is Hole:
-        return value.text(type_name)
     if type_name == "float":
         return format_float(value)
     if type_name == "integer":

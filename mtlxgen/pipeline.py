@@ -2,7 +2,7 @@
 import copy
 import os
 
-from . import document, emit, glslcheck, graph, is_usd, library, nodes, targets
+from . import document, emit, functions, glslcheck, graph, is_usd, library, nodes, targets
 from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
 from .xmlreader import gc_paused
 
@@ -82,15 +82,15 @@ class Session:
         self.rules = graph_rules(usd_seed_rules)     # what the target tells graph building
         if not self.elements:
             raise MtlxError((Loc(path, 1), "nothing to render: no material, shader or output elements"))
-        from .elementcache import KeptElements
-        self.kept_elements = KeptElements(self)     # materials built alike: generated once, instantiated after
 
-    def graph(self, name):
+    def graph(self, name, functions=False):
+        """Element `name`'s Graph; functions: nodegraph implementations as call nodes where they can be
+        (functions.py: the complete interface's shaders), else expanded in place."""
         if self.stage is not None and name in self.stage.materials and self.stage.materials[name].problems:
             raise MtlxError(self.stage.materials[name].problems)      # what the stage reader could not convert
         found = []
         try:
-            g = graph.build_graph(self.doc, self.library, name, self.rules, warnings=found)
+            g = graph.build_graph(self.doc, self.library, name, self.rules, warnings=found, functions=functions)
         finally:
             self.element_warnings[name] = found
             if not self.strict:             # strict: they are errors, raised below
@@ -112,22 +112,25 @@ class Session:
 
     def shader(self, name, interface=None, graph=None):
         """Element `name`'s Shader, with the session's interface or `interface` (a reduce.Interface), from its graph
-        or `graph` (this session's graph(name), already built: not built again). An element of the session's
-        interface built alike with others before may be instantiated from their template (elementcache.py)."""
-        if graph is None and interface is None:
-            return self.kept_elements.shader(name, self._shader)
-        return self._shader(name, interface, graph)
-
-    def _shader(self, name, interface=None, graph=None):
+        or `graph` (this session's graph(name, ...), already built: not built again). The complete interface calls
+        nodegraph implementations as functions (functions.py); the reduced one expands them, to fold their constants."""
         iface = interface or self.interface
-        g, kept = graph if graph is not None else self.graph(name), None
+        kept = None
+        if graph is None:
+            graph = self.graph(name, functions=not iface.reduced)
         if iface.reduced:          # reduce.py: constants in the code, then fold.py computes them
             from . import fold, reduce
-            g, kept = reduce.reduce(g, iface)
-            g = fold.fold(g)
-        shader = glslcheck.check(emit.emit(g, environment=self.environment, target=self.target,
-                                           max_lights=self.max_lights, compact=iface.reduced))
+            graph, kept = reduce.reduce(graph, iface)
+            graph = fold.fold(graph)
+        try:
+            shader = self._emit(graph, iface)
+        except functions.Inline:            # a compile-time input connected: expanded in place instead
+            shader = self._emit(self.graph(name), iface)
         return self.finish(name, shader, iface, kept)
+
+    def _emit(self, g, iface):
+        return glslcheck.check(emit.emit(g, environment=self.environment, target=self.target,
+                                         max_lights=self.max_lights, compact=iface.reduced))
 
     def finish(self, name, shader, interface=None, kept=None):
         """`shader` with what the session adds to an element's manifest."""
@@ -145,7 +148,7 @@ class Session:
         file it binds is named (Shader.texture_inputs: a file that does not decode is reported there, at_inputs)."""
         if not shader.manifest.get("textures"):
             return shader
-        if name not in self.texture_inputs:         # made from a kept template: its graph, for where its files are
+        if name not in self.texture_inputs:         # a shader made from a graph not built here
             self.graph(name)
         inputs, left_out = self.texture_inputs[name], self.unreadable.get(name, ())
         shader = copy.copy(shader)
@@ -176,7 +179,7 @@ class Session:
             if name is None:
                 return []
             if name not in self.element_notes and self._names_unreadable_textures():
-                self.graph(name)        # made from a kept template (elementcache.py): built here for its notes
+                self.graph(name)        # not built here yet: built for its notes
             return list(self.element_notes.get(name, ()))
         if name is None:
             return list(self.stage.problems)

@@ -117,9 +117,9 @@ def test_not_a_regular_file_is_named(tmp_path):
     assert error.problems[0][1] == "texture 'dangling.png' is a dangling symbolic link; the image's default is drawn"
 
 
-def test_materials_made_from_a_kept_template_are_checked_too(tmp_path):
-    """Six materials of one structure: from the fourth on they are instantiated (elementcache.py) without a
-    graph of their own; each still names its missing texture at its own input's line."""
+def test_materials_of_one_structure_each_name_their_texture(tmp_path):
+    """Six materials of one structure (one function called by each): each names its missing texture at its own
+    input's line."""
     parts = ['<?xml version="1.0"?>\n<materialx version="1.39">']
     for k in range(6):
         parts += ['  <image name="img%d" type="color3">' % k,
