@@ -4,10 +4,10 @@
 usage: bench_generate.py [FILE.mtlx ...] [--repeat N] [--materials N] [--no-big]
 
 Default files: every document of Materials/Examples in ../shared/corpus/materialx (or $MTLXGEN_CORPUS; of
-tests/data/materialx where neither is there), then a generated document of --materials materials (1,000:
-standard_surface, open_pbr_surface and gltf_pbr, a third of them fed by a small nodegraph), once as generate runs
-(its materials of one structure instantiated from a checked template after the third: elementcache.py) and once
-with kept elements off.
+tests/data/materialx where neither is there), then two generated documents of --materials materials each: one of ONE
+structure (standard_surface materials differing in their values only) and one of as many DIFFERENT structures (each
+material's own nodegraph, a chain of math nodes whose categories and length spell the material's number, feeding
+standard_surface, open_pbr_surface or gltf_pbr by turns).
 
 Per document, like against like, both warm (libraries loaded, first run not timed):
   mtlxgen    pipeline.generate(FILE, ELEMENTS): read, upgrade, the library overlaid with the document's own
@@ -31,7 +31,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from mtlxgen import elementcache, library, pipeline  # noqa: E402
+from mtlxgen import library, pipeline  # noqa: E402
 from mtlxgen.diagnostics import MtlxError  # noqa: E402
 
 CORPUS = os.environ.get("MTLXGEN_CORPUS") or os.path.join(ROOT, "..", "shared", "corpus", "materialx")
@@ -153,10 +153,51 @@ MATERIAL = {
 
 
 def many_materials(path, n):
+    """A document of n standard_surface materials of one structure (their values differ)."""
     parts = ['<?xml version="1.0"?>', '<materialx version="1.39">']
     for i in range(n):
-        parts.append(MATERIAL[i % 3].format(i=i, r=(i % 10) / 10, g=(i % 7) / 7, s=0.1 + (i % 9) / 10,
-                                            m=(i % 5) / 5))
+        parts.append(MATERIAL[0].format(i=i, r=(i % 10) / 10, g=(i % 7) / 7, s=0.1 + (i % 9) / 10, m=(i % 5) / 5))
+    parts.append("</materialx>")
+    with open(path, "w") as f:
+        f.write("\n".join(parts) + "\n")
+    return path
+
+
+CHAIN_OPS = ("multiply", "add", "subtract", "max", "min")
+SHADERS = (("standard_surface", "base_color", "specular_roughness"), ("open_pbr_surface", "base_color",
+                                                                         "specular_roughness"),
+           ("gltf_pbr", "base_color", "roughness"))
+
+
+def different_materials(path, n):
+    """A document of n materials of n different structures: material i's nodegraph is a chain of math nodes, one per
+    base-5 digit of i (the digit picks the category), from a noise of the position to a mix of two colours."""
+    parts = ['<?xml version="1.0"?>', '<materialx version="1.39">']
+    for i in range(n):
+        digits, k = [], i
+        while True:
+            digits.append(k % len(CHAIN_OPS))
+            k //= len(CHAIN_OPS)
+            if not k:
+                break
+        chain = ['  <position name="p" type="vector3" />',
+                 '  <noise3d name="n0" type="float"><input name="position" type="vector3" nodename="p" /></noise3d>']
+        for j, d in enumerate(digits):
+            chain.append('  <%s name="n%d" type="float"><input name="in1" type="float" nodename="n%d" />'
+                         '<input name="in2" type="float" value="%.3f" /></%s>' % (CHAIN_OPS[d], j + 1, j, 0.1 + d / 10,
+                                                                                   CHAIN_OPS[d]))
+        last = len(digits)
+        chain.append('  <mix name="c" type="color3"><input name="fg" type="color3" value="0.8, 0.3, 0.1" />'
+                     '<input name="bg" type="color3" value="0.1, 0.2, 0.6" /><input name="mix" type="float" '
+                     'nodename="n%d" /></mix>' % last)
+        chain.append('  <output name="out" type="color3" nodename="c" />')
+        category, color, rough = SHADERS[i % 3]
+        parts.append('<nodegraph name="NG%d">\n%s\n</nodegraph>' % (i, "\n".join(chain)))
+        parts.append('<%s name="s%d" type="surfaceshader"><input name="%s" type="color3" nodegraph="NG%d" output="out" />'
+                     '<input name="%s" type="float" value="%.3f" /></%s>' % (category, i, color, i, rough,
+                                                                             0.1 + (i % 9) / 10, category))
+        parts.append('<surfacematerial name="M%d" type="material"><input name="surfaceshader" type="surfaceshader" '
+                     'nodename="s%d" /></surfacematerial>' % (i, i))
     parts.append("</materialx>")
     with open(path, "w") as f:
         f.write("\n".join(parts) + "\n")
@@ -228,21 +269,13 @@ def main():
               % (count, 1e3 * total_a / count, 1e3 * total_b / count, total_a / total_b))
     if not args.no_big:
         with tempfile.TemporaryDirectory() as tmp:
-            path = many_materials(os.path.join(tmp, "materials_%d.mtlx" % args.materials), args.materials)
-            elements, a, b, skipped = measure(mx, path, 1)
-            for s in skipped[:5]:
-                print("materials_%d: skipped %s" % (args.materials, s))
-            if elements:
-                row("%d-material document" % args.materials, len(elements), a, b)
-                # the same without kept elements (each material built and emitted: what a document of as many
-                # different structures costs per material)
-                elementcache.REUSE = False
-                try:
-                    elements, a, b, _ = measure(mx, path, 1)
-                finally:
-                    elementcache.REUSE = True
-                row("%d-material, kept elements off" % args.materials, len(elements), a, b)
-
+            for label, make in (("one structure", many_materials), ("different structures", different_materials)):
+                path = make(os.path.join(tmp, "materials_%d.mtlx" % args.materials), args.materials)
+                elements, a, b, skipped = measure(mx, path, 1)
+                for s in skipped[:5]:
+                    print("%s: skipped %s" % (label, s))
+                if elements:
+                    row("%d materials, %s" % (args.materials, label), len(elements), a, b)
 
 if __name__ == "__main__":
     main()

@@ -13,6 +13,7 @@ template, closureplan.py says when each closure node is needed. Handlers (nodes/
 return code: nothing they do changes the graph (the emitter's uniform table is its own).
 """
 import copy
+import functools
 import json
 import os
 import re
@@ -681,13 +682,14 @@ class Emitter:
                 return d
         return None
 
-    def library_code(self, files, roots):
-        """The sections ("// ---- glsl_lib/REL", code) of the glsl_lib files `files` that the texts `roots` reach, the
-        paste switches resolved for this shader (glsldeps.SWITCHES), compacted in a reduced shader."""
+    def library_code(self, files, roots, known=frozenset()):
+        """The sections ("// ---- glsl_lib/REL", code) of the glsl_lib files `files` that the texts `roots` (and the
+        identifiers `known`) reach, the paste switches resolved for this shader (glsldeps.SWITCHES), compacted in a
+        reduced shader."""
         switches = self.paste_switches()
         texts = [(r, glsldeps.resolve_switches(read_lib_file(r)[0], switches)) for r in files]
         out = []
-        for rel, text in glsldeps.used_code(texts, roots):
+        for rel, text in glsldeps.used_code(texts, roots, known):
             key = (rel, text, self.compact)
             section = _SECTIONS.get(key)
             if section is None:
@@ -754,9 +756,8 @@ class Emitter:
         frag.append("")
         roots = frag + self.body + [out_expr]
         joined = "\n".join(roots)          # one text to scan, not one per line (a `/*` may span lines: then each)
-        roots = ([joined] if "/*" not in joined else roots) + [text for _, text in self.external] + [
-            code.text for code in self.functions.values()]
-        frag += self.library_code(self.files, roots)
+        roots = ([joined] if "/*" not in joined else roots) + [text for _, text in self.external]
+        frag += self.library_code(self.files, roots, function_identifiers(self.functions))
         for path, text in self.external:
             frag.append("// ---- %s" % comment_text(os.path.basename(path)))
             frag.append(text.rstrip() + "\n")
@@ -869,7 +870,7 @@ class VertexStage:
                      "    world_position = u_worldMatrix * vec4(i_position + mg_displacement.offset * "
                      "mg_displacement.scale, 1.0);"]
             calls = function_texts(displacer.functions)
-            lines += em.library_code(files, lines + body + calls)
+            lines += em.library_code(files, lines + body, function_identifiers(displacer.functions))
             lines += calls
         lines += ["", "void main()", "{"] + body
         lines += ["    gl_Position = u_viewProjectionMatrix * world_position;"]
@@ -1017,7 +1018,7 @@ class VertexEmitter(Emitter):
         return "(%s)" % s.fragment.format("(%s)" % s.vertex)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FunctionCode:
     """A nodegraph implementation's function as one stage emits it (functions.Family.variants keeps it)."""
     name: str                         # GLSL name
@@ -1031,6 +1032,11 @@ class FunctionCode:
     uses_closures: bool
     types: frozenset                  # types its body uses (struct declarations)
     switches: frozenset               # the glsldeps paste switches its body allows
+
+    @functools.cached_property
+    def identifiers(self):
+        """The identifiers its text uses (glsldeps.identifiers), read once."""
+        return frozenset(glsldeps.identifiers(self.text))
 
 
 class FunctionEmitter(Emitter):
@@ -1085,6 +1091,14 @@ class FunctionEmitter(Emitter):
 def function_texts(codes):
     """The definitions of the functions a stage calls, in order (callees first)."""
     return [code.text for code in codes.values()]
+
+
+def function_identifiers(codes):
+    """The identifiers the bodies of the functions a stage calls use (glsl_lib code they reach)."""
+    names = set()
+    for code in codes.values():
+        names |= code.identifiers
+    return names
 
 
 def struct_order(names, structs):

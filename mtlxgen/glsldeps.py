@@ -539,10 +539,11 @@ _USED_MAX = 256          # sets of files (switches, documents' code aside, a few
 _USED_PER_FILES = 4096   # root name sets of one set of files
 
 
-def used_code(files, roots):
+def used_code(files, roots, known=frozenset()):
     """[(rel, text)] of glsl_lib files [(rel, text)] that the root texts reach: each file's header and its kept items
-    in order, files that keep nothing left out. Kept per process for each (files, root identifiers among the names
-    the files define): a repeat is the identifier scan and two dictionary look-ups."""
+    in order, files that keep nothing left out. known: identifiers of more roots, read before (a function's body:
+    emit.FunctionCode.identifiers). Kept per process for each (files, root identifiers among the names the files
+    define): a repeat is the identifier scan and two dictionary look-ups."""
     if os.environ.get("MTLXGEN_GLSL_DCE", "1") == "0":
         return list(files)
     key = tuple(files)
@@ -554,7 +555,7 @@ def used_code(files, roots):
         index = _index(libs)
         entry = _USED[key] = (libs, index, frozenset(index), {})
     libs, index, defined, done = entry
-    names = set()
+    names = set(known)
     for r in roots:
         names |= identifiers(r)
     names = frozenset(names & defined)

@@ -40,7 +40,49 @@ def transparent_surface(doc, lib, element):
     if impl is None or not impl.outputs:
         return False
     out = next(iter(impl.outputs.values()))
-    return out.type == "surfaceshader" and _graph_transparent(out, _Scope(impl.nodes, {}, impl, scope, lib), node)
+    if out.type != "surfaceshader":
+        return False
+    # the walk through the implementation reads the outer node only through the inputs its shaders name: walked once
+    # per implementation (and library), recording those; then only they are read, for each node
+    entry = _WALKS.get(id(impl))
+    if entry is None or entry[0] is not impl or entry[1] is not lib:
+        if len(_WALKS) >= _WALKS_MAX:
+            _WALKS.clear()
+        reads = _Reads()
+        entry = _WALKS[id(impl)] = (impl, lib, _graph_transparent(out, _Scope(impl.nodes, {}, impl, scope, lib), reads),
+                                    tuple(reads.names))
+    outer = _Outer(node)
+    return entry[2] or any(outer.see_through(name, opaque) for name, opaque in entry[3])
+
+
+_WALKS = {}             # id(implementation) -> (implementation, library, see-through whatever the node, [(input, opaque)])
+_WALKS_MAX = 256
+
+
+class _Outer:
+    """The node whose implementation is walked: whether its input `name` makes it see-through (connected, or a value
+    away from `opaque`)."""
+    __slots__ = ("node",)
+
+    def __init__(self, node):
+        self.node = node
+
+    def see_through(self, name, opaque):
+        port = self.node.inputs.get(name)
+        return port is not None and (port.connected or _away_from(port.value, opaque))
+
+
+class _Reads:
+    """An outer node not known yet: records what the walk would read of it, and reads nothing."""
+    __slots__ = ("names",)
+
+    def __init__(self):
+        self.names = []
+
+    def see_through(self, name, opaque):
+        if (name, opaque) not in self.names:
+            self.names.append((name, opaque))
+        return False
 
 
 class _Scope:
@@ -94,8 +136,7 @@ def _shader_transparent(node, scope, interface_node):
     if interface_node is not None:          # inside a shader's nodegraph: the outer node's inputs they name
         for name, opaque in TRANSPARENCY_INPUTS:
             port = node.inputs.get(name)
-            outer = interface_node.inputs.get(port.interfacename) if port is not None and port.interfacename else None
-            if outer is not None and (outer.connected or _away_from(outer.value, opaque)):
+            if port is not None and port.interfacename and interface_node.see_through(port.interfacename, opaque):
                 return True
     for name, opaque in TRANSPARENCY_INPUTS:
         port = node.inputs.get(name)
@@ -130,7 +171,7 @@ def _graph_transparent(output, scope, interface_node):
         if node.type == "BSDF":
             impl = scope.implementation(node)
             if impl is not None and impl.outputs and _graph_transparent(
-                    next(iter(impl.outputs.values())), _Scope(impl.nodes, {}, impl, scope, scope.lib), node):
+                    next(iter(impl.outputs.values())), _Scope(impl.nodes, {}, impl, scope, scope.lib), _Outer(node)):
                 return True
         stack.extend(scope.upstream(p)[0] for p in node.inputs.values() if p.nodename)
     return False
