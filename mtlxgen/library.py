@@ -242,10 +242,11 @@ class Library:
     def overlay(self, doc):
         """A new Library: this one plus the definitions a document declares itself (this one when it
         already is that overlay)."""
-        if getattr(self, "overlaid", None) is doc:
+        if getattr(self, "overlaid", None) is doc or getattr(self, "_plain", None) is doc:
             return self
         if not (doc.nodedefs or doc.implementations or doc.structs or doc.unitdefs or doc.geompropdefs
                 or any(g.nodedef for g in doc.nodegraphs.values())):
+            self._plain = doc           # (the last document found to define nothing: each element asks again)
             return self
         lib = Library(nodedefs=_copy(self.nodedefs), by_category=_copy(self.by_category, list),
                       graph_impls=_copy(self.graph_impls), nodegraphs=_copy(self.nodegraphs),
