@@ -22,7 +22,7 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
     Vt = normalize(Vt);
 #ifdef MG_ENV_PREFILTERED
     // split sum (Karis 2013): the GGX-prefiltered map at the lobe's level (lighting/environment_prefiltered_lookup.glsl)
-    return mg_env_radiance(frame * mg_env_prefiltered_direction(Vt, alpha), mg_env_lod_prefiltered(alpha));
+    return mg_env_prefiltered_lobe(Vt, frame, alpha, false);
 #else
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);

@@ -75,11 +75,7 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
     Vt.z = max(Vt.z, 1.0e-4);
     Vt = normalize(Vt);
 #ifdef MG_ENV_PREFILTERED
-    vec3 Lt = mg_env_prefiltered_direction(Vt, alpha);
-    if (retro)
-        Lt = mg_retro(Lt);
-    vec3 L = frame * Lt;
-    return mg_env_radiance(L, mg_env_lod_prefiltered(alpha)) * mg_ggx_albedo_at_view(Vt.z, alpha, fr);
+    return mg_env_prefiltered_lobe(Vt, frame, alpha, retro) * mg_ggx_albedo_at_view(Vt.z, alpha, fr);
 #else
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
