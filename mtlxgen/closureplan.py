@@ -13,6 +13,7 @@ interface's constants): True, False, or what remains of it. glsl() writes one as
 nodes' inputs, which only emission knows.
 """
 import operator
+from dataclasses import replace
 
 from . import graphwalk
 from .mxtypes import format_float
@@ -132,6 +133,11 @@ def glsl(cond, input_values, memo=None):
     if memo is not None:
         memo[id(cond)] = (cond, text)
     return text
+
+
+def plan(graph):
+    """The closures pass (passes.py): `graph` with its ClosurePlan (Graph.closure_plan), which the emitter reads."""
+    return replace(graph, closure_plan=ClosurePlan(graph))
 
 
 class ClosurePlan:

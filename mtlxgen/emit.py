@@ -225,7 +225,7 @@ class Emitter:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
         # the emitter's own view of the graph: the public uniforms are its own table, which emission may
         # extend (UDIM tiles, primvar flags) or thin (a sampler nothing reads); the graph itself never changes
-        self.graph = copy.copy(graph)       # (a shallow copy keeps what fold.py marks on a graph: static_guards)
+        self.graph = copy.copy(graph)
         self.graph.uniforms = dict(graph.uniforms)
         self.environment = environment
         self.target = targets.get(target)
@@ -248,7 +248,7 @@ class Emitter:
         self.context = None           # closure context being emitted ("reflection", "indirect", ...)
         self.block = 0                # serial of the current closure block (closure variables live in it)
         self.closure_vars = {}        # (block, node id, output) -> variable
-        self.closure_plan = closureplan.ClosurePlan(graph)   # when each closure node is needed
+        self.closure_plan = graph.closure_plan or closureplan.ClosurePlan(graph)   # when each closure node is needed
         self.conditions = {}          # closure node id -> GLSL condition under which it is needed (None: always;
                                       # False: never, decided on literals in the reduced interface)
         self._contexts = []           # contexts of the enclosing blocks
@@ -417,7 +417,7 @@ class Emitter:
                     # a BSDF of (near) zero weight is the empty closure whatever its other inputs are
                     # (as in MaterialX: e.g. gltf_pbr's sheen colour is 0/0 when sheen is off): closureplan.weighed
                     weighed = closureplan.weighed(node.id)
-                    if getattr(self.graph, "static_guards", False):        # the reduced interface (fold.py)
+                    if self.graph.static_guards:        # the reduced interface (fold.py)
                         weighed = closureplan.decide(weighed, self.closure_plan.literal_value)
                     cond = closureplan.glsl(closureplan.conjoin(cond, weighed),               # "cond && weighed"
                                             lambda node_id: {"weight": self.input_expr(node, "weight")})
@@ -462,7 +462,7 @@ class Emitter:
         compares (closureplan.decide): one always true is None, one never true False."""
         plan = self.closure_plan.conditions(root)
         values, memo = {}, {}
-        decided = {} if getattr(self.graph, "static_guards", False) else None
+        decided = {} if self.graph.static_guards else None
         literal_value = self.closure_plan.literal_value
 
         def input_values(node_id):                      # condition_values, once per node in this plan

@@ -151,11 +151,9 @@ def fold(graph):
                 continue
         kept.append(new)
     result = follow(graph.result)
-    out = replace(graph, nodes=graphwalk.prune(kept, [result]),        # only what the result still reads
-                  result=result, uniforms={k: replace(u) for k, u in graph.uniforms.items()},
-                  warnings=list(graph.warnings))
-    out.static_guards = True        # the emitter decides guards on literals (closureplan.decide)
-    return out
+    return replace(graph, nodes=graphwalk.prune(kept, [result]),      # only what the result still reads
+                   result=result, uniforms={k: replace(u) for k, u in graph.uniforms.items()},
+                   warnings=list(graph.warnings), static_guards=True)   # guards decided on literals (closureplan.decide)
 
 
 def _fold_node(node, ins, impl):

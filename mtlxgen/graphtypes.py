@@ -84,6 +84,9 @@ class Graph:
     # a function's body (functions.py): {output name: Source} it returns, {input name: parameter name} it takes
     outputs: dict = None
     parameters: dict = None
+    # closure guards are decided on literal inputs at generation time (the fold pass: the reduced interface)
+    static_guards: bool = False
+    closure_plan: object = None       # closureplan.ClosurePlan (the closures pass; the emitter makes one where none)
 
 
 _GLSL_RESERVED = set("""attribute const uniform varying layout centroid flat smooth noperspective patch sample

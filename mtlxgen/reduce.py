@@ -1,4 +1,4 @@
-"""The shader interface of an element (issue 14): which of its public inputs stay uniforms.
+"""The shader interface of an element: which of its public inputs stay uniforms.
 
 complete (the default): every public input is a uniform named as MaterialX names it, initialised with its value;
 what `generate` has always written.
