@@ -62,7 +62,7 @@ def main():
             for element in elements:
                 try:
                     vs, fs, tex, _ = ref.generate(path, element)
-                    shader = pipeline.generate(path, [element], environment=args.environment)[0]
+                    shader = pipeline.generate(path, elements=[element], environment=args.environment)[0]
                     theirs = timed_draws(r, vs, fs, {}, tex, args.repeat)
                     ours = timed_draws(r, shader.vertex, shader.fragment, shader.manifest, None, args.repeat)
                 except (MtlxError, Exception) as e:

@@ -44,7 +44,7 @@ def main(argv=None):
             path = os.path.join(ROOT, "examples", rel)
             times = []
             for method in ("fis", "prefiltered"):
-                (s,) = pipeline.generate(path, [el], environment=method)
+                (s,) = pipeline.generate(path, elements=[el], environment=method)
                 p = r.prepare(s.vertex, s.fragment, s.manifest)
                 try:
                     r.draw(p)                   # first draw: compile, bind

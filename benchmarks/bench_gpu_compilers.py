@@ -79,7 +79,7 @@ def default_files(examples):
 
 def write_ours(path, element, mode, target, stem):
     from mtlxgen import pipeline
-    s = pipeline.generate(path, [element], interface=mode, target=target)[0]
+    s = pipeline.generate(path, elements=[element], interface=mode, target=target)[0]
     _write(stem, s.vertex, s.fragment)
 
 
@@ -104,7 +104,7 @@ _BASELINE = """
 import sys
 sys.path.insert(0, sys.argv[1])
 from mtlxgen import pipeline
-s = pipeline.generate(sys.argv[2], [sys.argv[3]], interface=sys.argv[4], target=sys.argv[5])[0]
+s = pipeline.generate(sys.argv[2], elements=[sys.argv[3]], interface=sys.argv[4], target=sys.argv[5])[0]
 open(sys.argv[6] + ".vert", "w").write(s.vertex)
 open(sys.argv[6] + ".frag", "w").write(s.fragment)
 """

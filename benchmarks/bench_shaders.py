@@ -58,7 +58,7 @@ class Harness:
 
 
 def ours_shader(path, element, mode):
-    s = pipeline.generate(path, [element], interface=mode)[0]
+    s = pipeline.generate(path, elements=[element], interface=mode)[0]
     tex = {}
     for t in s.manifest.get("textures", []):
         f = t.get("file", "")

@@ -26,7 +26,6 @@ import warnings as _warnings
 from dataclasses import dataclass, fields
 from typing import Iterable, NamedTuple, Optional, Sequence, Union
 
-from . import is_usd
 from .diagnostics import Loc, MtlxError, Warnings
 from .emit import Shader
 
@@ -165,51 +164,36 @@ class _Source:
             self.folder = None
 
 
-def stage_options(path, variants=(), render_context=None):
-    """usdstage.StageOptions for a USD stage (None for a .mtlx document); variants or a render context for a .mtlx
-    document is a problem (one line at the file)."""
-    variants = tuple(variants or ())
-    if not is_usd(path):
-        if variants or render_context:
-            raise DocumentError((Loc(path, 0), "%s applies to USD stages (.usd, .usda, .usdc, .usdz) only"
-                                 % ("--variant" if variants else "--render-context")))
-        return None
-    from .usdstage import StageOptions
-    return StageOptions(variants=variants, render_context=render_context or "mtlx")
-
-
-def _interface(interface, keep):
-    from . import reduce
-    if isinstance(interface, reduce.Interface):
-        return interface
-    if interface not in ("complete", "reduced"):
-        raise ValueError("interface must be 'complete' or 'reduced', not %r" % (interface,))
-    if keep and interface == "complete":
-        raise ValueError("keep names inputs kept uniforms in the reduced interface: use interface='reduced'")
-    return reduce.interface(interface, list(keep), None)
-
-
-def generate_partial(source, elements=None, *, target="glsl", interface="complete", options=None,
-                     unreadable_textures="warning", warnings=None, max_lights=None):
-    """(shaders that worked, DocumentError or None): every element tried, the problems of those that failed
-    collected. What generate and the command line share. warnings: a diagnostics.Warnings that receives the
-    warnings (as (Loc, message), <string> for a string's); max_lights: options.max_lights unless given (render
-    binds a rig's lights). unreadable_textures: "warning" (generate) or "error" (whatever draws)."""
-    from . import pipeline
-    from .targets import NAMES
+def generate_options(target="glsl", interface="complete", options=None, **settings):
+    """The options.GenerateOptions of the public calls' target, interface and Options (or dict of its fields), with
+    `settings` (GenerateOptions fields: unreadable_textures, max_lights, ...) on top: where the public options become
+    the internal ones, each bad value a ValueError (TypeError) of its own."""
+    from .options import GenerateOptions
     opts = Options.of(options)
-    if target not in NAMES:
-        raise ValueError("target must be one of %s, not %r" % (", ".join(NAMES), target))
-    iface = _interface(interface, opts.keep)
+    if isinstance(interface, str) and interface not in ("complete", "reduced"):
+        raise ValueError("interface must be 'complete' or 'reduced', not %r" % (interface,))
+    public = dict(target=target, interface=interface, library_dirs=tuple(opts.library_dirs),
+                  environment=opts.environment, max_lights=opts.max_lights, strict=opts.strict,
+                  usd_seed_rules=opts.usd_seed_rules, variants=tuple(opts.variants),
+                  render_context=opts.render_context)
+    if isinstance(interface, str):
+        public["keep"] = tuple(opts.keep)
+    return GenerateOptions(**public).replace(**settings) if settings else GenerateOptions(**public)
+
+
+def generate_partial(source, elements=None, options=None, warnings=None, **settings):
+    """(shaders that worked, DocumentError or None): every element tried, the problems of those that failed
+    collected. What generate and the command line share. options: an options.GenerateOptions (None: the defaults),
+    `settings` its fields as keywords on top (pipeline.generate); warnings: a diagnostics.Warnings that receives the
+    warnings (as (Loc, message), <string> for a string's)."""
+    from . import pipeline
+    from .options import GenerateOptions
+    opts = GenerateOptions.of(options, **settings)
     src = _Source(source)
     found = Warnings()
     try:
-        shaders, error = pipeline.generate(
-            src.path, list(elements) if elements else None, tuple(opts.library_dirs), partial=True,
-            usd_seed_rules=opts.usd_seed_rules, environment=opts.environment,
-            usd_options=stage_options(src.path, opts.variants, opts.render_context), strict=opts.strict,
-            warnings=found, target=target, interface=iface,
-            max_lights=opts.max_lights if max_lights is None else max_lights, unreadable_textures=unreadable_textures)
+        shaders, error = pipeline.generate(src.path, opts, list(elements) if elements else None, partial=True,
+                                           warnings=found)
         return shaders, (src.error(error) if error is not None else None)
     except MtlxError as e:
         raise src.error(e) from None
@@ -231,8 +215,8 @@ def _generate_all(source, element, target, interface, options, unreadable_textur
     """Shaders of every element asked for (generate_partial), each warning issued as a DocumentWarning at the public
     call's caller; DocumentError where any element fails."""
     found = Warnings()
-    shaders, error = generate_partial(source, _elements(element), target=target, interface=interface,
-                                      options=options, unreadable_textures=unreadable_textures, warnings=found)
+    opts = generate_options(target, interface, options, unreadable_textures=unreadable_textures)
+    shaders, error = generate_partial(source, _elements(element), opts, warnings=found)
     lines = found.lines()
     for line, item in zip(lines, found.items):      # stacklevel 3: the caller of generate or Session.*
         _warnings.warn(DocumentWarning(line, Problem(*item)), stacklevel=3)

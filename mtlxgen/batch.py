@@ -128,12 +128,12 @@ def failed_items(job, element, error):
                                                                          job.elements or ("",))]
 
 
-def run_job(job, library_dirs=(), strict=False, options=None, post=None, post_args=None):
+def run_job(job, options=None, post=None, post_args=None):
     """Render one job in this process. Never raises for bad input: failures become Items with errors.
-    strict: warnings are errors (the element is not drawn). options: further pipeline.Session keywords
-    (how shaders are generated: target, ...), the same for every job of a run. post(item, arg): run on each drawn
+    options: how shaders are generated (options.GenerateOptions; None: the defaults), the same for every job of a
+    run; options.strict: warnings are errors (the element is not drawn). post(item, arg): run on each drawn
     item, arg = post_args[(absolute path, element)] (module docstring)."""
-    items = _draw_job(job, library_dirs, strict, options)
+    items = _draw_job(job, options)
     if post is not None:
         for item in items:
             if item.image is not None:
@@ -151,13 +151,15 @@ def srgb8_drawn(item, _=None):
     item.outcome, item.image = {"srgb8": to_srgb8(item.image)}, None
 
 
-def _draw_job(job, library_dirs, strict, options):
+def _draw_job(job, options):
     from . import library, pipeline
+    from .options import GenerateOptions
     items = []
     try:
-        library.load_library(library_dirs)           # once per process (memoized): not a material's cost
+        options = GenerateOptions.of(options)
+        library.load_library(options.library_dirs)   # once per process (memoized): not a material's cost
         t0 = time.perf_counter()
-        session = pipeline.Session(job.path, job.elements, library_dirs, strict=strict, **(options or {}))
+        session = pipeline.Session(job.path, options, job.elements)
         names = session.elements
     except Exception as e:  # the file as a whole
         return [Item(job.path, el, job.settings, error=error_lines(e, job.path, el), pid=os.getpid())
@@ -185,7 +187,7 @@ def _draw_job(job, library_dirs, strict, options):
         except Exception as e:
             item.error = error_lines(e, job.path, name)
             item.timings = {"load_s": load_s, "total_s": time.perf_counter() - t1}
-        if not strict:                  # strict: they are the item's errors
+        if not options.strict:          # strict: they are the item's errors
             item.warnings = session.warning_lines(name)
         items.append(item)
     r.trim_images(KEPT_TEXTURES)
@@ -272,13 +274,14 @@ def default_workers():
         return max(1, os.cpu_count() or 1)
 
 
-def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False, options=None, post=None,
-                post_args=None, scheduler=None):
+def render_jobs(jobs, workers=None, progress=None, options=None, post=None, post_args=None, scheduler=None):
     """Render all jobs; returns [Item] in job order. `progress`: a Progress, True/False, or None (auto).
-    strict: warnings are errors, options: Session keywords, post and post_args: run_job's. scheduler: a Dask
-    scheduler address (cluster.py: tcp://HOST:PORT, or local:N) to run the jobs on instead of `workers`
+    options (an options.GenerateOptions: library_dirs, strict, ...), post and post_args: run_job's. scheduler: a
+    Dask scheduler address (cluster.py: tcp://HOST:PORT, or local:N) to run the jobs on instead of `workers`
     processes here; raises MtlxError (one line) when the cluster cannot run them or goes away."""
-    tasks = _split(jobs, library_dirs)
+    from .options import GenerateOptions
+    options = GenerateOptions.of(options)           # checked here, before any worker starts
+    tasks = _split(jobs, options.library_dirs)
     total = sum(len(t.elements) or 1 for t in tasks)
     bar = progress if isinstance(progress, Progress) else Progress(total, "render", enabled=progress)
     post_args = post_args or {}
@@ -296,8 +299,7 @@ def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False
     results = [None] * len(tasks)
     if scheduler is not None:
         from . import cluster
-        cluster.run_tasks(scheduler, tasks, done, bar, run_job, failed_items, library_dirs, strict, options, post,
-                          args_of)
+        cluster.run_tasks(scheduler, tasks, done, bar, run_job, failed_items, options, post, args_of)
         bar.close()
         return [item for chunk in results for item in chunk]
     workers = default_workers() if workers is None else max(1, int(workers))
@@ -305,11 +307,11 @@ def render_jobs(jobs, workers=None, progress=None, library_dirs=(), strict=False
     if workers == 1:
         for i, task in enumerate(tasks):
             bar.running = 1
-            done(i, run_job(task, library_dirs, strict, options, post, args_of(task)))
+            done(i, run_job(task, options, post, args_of(task)))
     else:
         ctx = multiprocessing.get_context("spawn")
         with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-            futures = {pool.submit(run_job, task, tuple(library_dirs), strict, options, post, args_of(task)): i
+            futures = {pool.submit(run_job, task, options, post, args_of(task)): i
                        for i, task in enumerate(tasks)}
             left = len(futures)
             for fut in concurrent.futures.as_completed(futures):

@@ -26,9 +26,9 @@ def _print_warnings(lines):
         print(line, file=sys.stderr)
 
 
-# emit.ENVIRONMENT_METHODS, here so that `mtlxgen --help` does not import the emitter (tests/test_library_index.py
-# holds them equal)
-ENVIRONMENT_METHODS = ("fis", "prefiltered")
+# emit.ENVIRONMENT_METHODS (tests/test_library_index.py holds them equal): options.py's, so that `mtlxgen --help`
+# does not import the emitter
+from .options import ENVIRONMENT_METHODS, GenerateOptions  # noqa: E402
 
 
 # ---------------------------------------------------------------- option values
@@ -146,8 +146,8 @@ def _variant(text):
 
 def _usd_options(args):
     """usdstage.StageOptions from --variant / --render-context; an error where they are given for a .mtlx."""
-    from .api import stage_options
-    return stage_options(args.file, getattr(args, "variant", None) or (), getattr(args, "render_context", None))
+    return GenerateOptions(variants=tuple(getattr(args, "variant", None) or ()),
+                           render_context=getattr(args, "render_context", None)).stage_options(args.file)
 
 
 def _check_document(path):
@@ -161,41 +161,48 @@ def _check_document(path):
 
 
 def _generate(args, rig=(), unreadable_textures="error"):
-    """(shaders that worked, MtlxError or None) for generate and render; warnings printed either way. rig: the
-    lights render binds (its shaders take as many, unless --max-lights says). unreadable_textures: "error" for
-    the commands that draw, "warning" for generate. The public API's generation (api.generate_partial)."""
+    """(shaders that worked, MtlxError or None) for generate, render, web and three; warnings printed either way.
+    rig, unreadable_textures: _options'. The public API's generation (api.generate_partial)."""
     from . import api
     warnings = Warnings()
     try:
-        options = api.Options(library_dirs=tuple(args.library), environment=args.environment, strict=args.strict,
-                              usd_seed_rules=args.usd_seed_rules, variants=tuple(getattr(args, "variant", None) or ()),
-                              render_context=getattr(args, "render_context", None))
-        session = _session_options(args, rig)
-        return api.generate_partial(args.file, [args.element] if args.element else None, target=session["target"],
-                                    interface=session["interface"], options=options, warnings=warnings,
-                                    max_lights=session["max_lights"], unreadable_textures=unreadable_textures)
+        return api.generate_partial(args.file, [args.element] if args.element else None,
+                                    _options(args, rig, unreadable_textures), warnings=warnings)
     finally:
         _print_warnings(warnings.lines())
 
 
-def _session_options(args, rig=()):
-    """How shaders are generated, beyond the document: pipeline.Session keywords from the options (and the
-    light rig a render binds: as many lights as it holds, where --max-lights does not say)."""
-    lights = getattr(args, "max_lights", None)      # web and three have no --max-lights: their pages bind no lights
+def _options(args, rig=(), unreadable_textures="error"):
+    """The options.GenerateOptions of a command's options: what each command has of --library, --strict,
+    --usd-seed-rules, --environment, --variant, --render-context, --interface, --keep, --keep-file, --max-lights and
+    --target (argparse checked each value; a keep file's problems: FILE:LINE). rig: the lights render binds (its
+    shaders take as many, where --max-lights does not say; web and three have no --max-lights: their pages bind no
+    lights). unreadable_textures: "error" for the commands that draw, "warning" for generate."""
+    lights = getattr(args, "max_lights", None)
     if lights is None:
         lights = len(rig)
-    return {"target": args.target, "interface": _interface(args), "max_lights": lights}
+    kind, keep = _interface(args) if hasattr(args, "keep") else ("complete", ())
+    return GenerateOptions(target=getattr(args, "target", "glsl"), interface=kind, keep=keep,
+                           environment=getattr(args, "environment", "fis"), max_lights=lights,
+                           strict=getattr(args, "strict", False),
+                           usd_seed_rules=getattr(args, "usd_seed_rules", None),
+                           library_dirs=tuple(getattr(args, "library", None) or ()),
+                           variants=tuple(getattr(args, "variant", None) or ()),
+                           render_context=getattr(args, "render_context", None),
+                           unreadable_textures=unreadable_textures)
 
 
 def _interface(args):
-    """The reduce.Interface of --interface, --keep and --keep-file (a keep file's problems: FILE:LINE)."""
+    """(interface kind, [(name, Loc or None)] kept) of --interface, --keep and --keep-file (a keep file's problems:
+    FILE:LINE)."""
     from . import reduce
     if (args.keep or args.keep_file) and args.interface == "complete":
         raise MtlxError((Loc(args.keep_file or getattr(args, "file", None) or "mtlxgen", 0),
                          "--keep and --keep-file name inputs kept editable in the reduced interface (every input "
                          "is a uniform in the complete one): use them with --interface reduced"))
     kind = args.interface or ("reduced" if args.keep or args.keep_file else "complete")
-    return reduce.interface(kind, args.keep, args.keep_file)
+    keep = [(n, None) for n in args.keep] + (reduce.read_keep_file(args.keep_file) if args.keep_file else [])
+    return kind, keep
 
 
 def cmd_generate(args):
@@ -272,8 +279,8 @@ def _samples(text):
 
 def cmd_view(args):
     from . import view
-    args.usd_options = _usd_options(args)
-    args.shader_interface = _interface(args)
+    args.generate_options = _options(args)
+    args.usd_options = args.generate_options.stage_options(args.file)
     if (args.screenshot or args.capture_window) and args.headless_frames is None:
         raise MtlxError((Loc(args.file, 0), "--screenshot and --capture-window go with --headless-frames N "
                                             "(in the window: key C)"))
@@ -323,14 +330,13 @@ def cmd_three(args):
 
 def cmd_info(args):
     from . import pipeline
-    options = _usd_options(args)
-    if options is not None:
+    options = _options(args)
+    if options.stage_options(args.file) is not None:
         from .usdinfo import print_info
-        return print_info(args.file, args.library, args.usd_seed_rules, options)
+        return print_info(args.file, options)
     warnings = Warnings()
     try:
-        return _info(pipeline.Session(args.file, None, args.library, args.usd_seed_rules, strict=args.strict,
-                                      warnings=warnings))
+        return _info(pipeline.Session(args.file, options, warnings=warnings))
     finally:
         _print_warnings(warnings.lines())
 
@@ -381,9 +387,8 @@ def cmd_golden_check(args):
     tol = golden.Tolerance(threshold=args.threshold, max_fraction=args.max_fraction, flip=args.flip_limit)
     warnings = []
     run = golden.check(args.paths, args.goldens or golden.DEFAULT_DIR, args.output, tol, workers=args.workers,
-                       progress=False if args.no_progress else None, flip=not args.no_flip,
-                       library_dirs=args.library, strict=args.strict, warnings=warnings,
-                       options=_session_options(args), scheduler=args.scheduler, shard=args.shard)
+                       progress=False if args.no_progress else None, flip=not args.no_flip, warnings=warnings,
+                       options=_options(args), scheduler=args.scheduler, shard=args.shard)
     _print_warnings(warnings)
     _print_check(run, args.verbose)
     html_path = report.write_report(run.out_dir)
@@ -411,8 +416,7 @@ def cmd_golden_update(args):
                                   environment=os.path.abspath(args.env) if args.env else RenderSettings.environment)
     warnings = []
     done = golden.update(args.paths, args.goldens, settings, workers=args.workers,
-                         progress=False if args.no_progress else None, library_dirs=args.library,
-                         strict=args.strict, warnings=warnings, options=_session_options(args),
+                         progress=False if args.no_progress else None, warnings=warnings, options=_options(args),
                          scheduler=args.scheduler)
     _print_warnings(warnings)
     status = 0
@@ -437,8 +441,8 @@ def cmd_report(args):
         # a directory of materials: check it first, into --checks (a dangling results.json: report refuses it)
         warnings = []
         run = golden.check([out], args.goldens or golden.DEFAULT_DIR, args.checks, workers=args.workers,
-                           progress=False if args.no_progress else None, library_dirs=args.library,
-                           strict=args.strict, warnings=warnings, options=_session_options(args))
+                           progress=False if args.no_progress else None, warnings=warnings,
+                           options=_options(args))
         _print_warnings(warnings)
         out = run.out_dir
     path = report.write_report(out, args.output)
@@ -456,8 +460,8 @@ def cmd_batch(args):
     for line in MtlxError(skipped).lines():
         print(line, file=sys.stderr)
     items = batch.render_jobs(jobs, workers=args.workers,
-                              progress=False if args.no_progress else None, library_dirs=args.library,
-                              strict=args.strict, options=_session_options(args), post=batch.srgb8_drawn,
+                              progress=False if args.no_progress else None, options=_options(args),
+                              post=batch.srgb8_drawn,
                               scheduler=args.scheduler)
     _print_warnings(line for it in items for line in it.warnings)
     status, printed, written = (1 if skipped else 0), set(), {}
@@ -548,7 +552,7 @@ def build_parser(command=None):
                        help="only this element (name path; for a USD stage, a material's prim path or name)")
 
     def generation(p):
-        """Options of how shaders are generated (_session_options), for every command that generates."""
+        """Options of how shaders are generated (_options), for every command that generates."""
         shader_interface(p)
         p.add_argument("--max-lights", type=_int_in(0, LIGHTS_LIMIT), default=None, metavar="N",
                        help="lit surfaces loop over up to N direct lights bound to u_lightData[] (0 to %d; default 0: "

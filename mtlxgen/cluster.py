@@ -194,12 +194,12 @@ def _check_workers(client, address, want):
 
 # ---------------------------------------------------------------- running the tasks
 
-def in_cwd(run, cwd, jobs, library_dirs, strict, options, post, post_args):
+def in_cwd(run, cwd, jobs, options, post, post_args):
     """[run(job, ...) for each of `jobs`] (batch.run_job) in the client's working directory (a task: relative
     paths read, and are named, as there); post_args: one per job."""
     if os.getcwd() != cwd:
         os.chdir(cwd)
-    return [run(job, library_dirs, strict, options, post, args) for job, args in zip(jobs, post_args)]
+    return [run(job, options, post, args) for job, args in zip(jobs, post_args)]
 
 
 TASKS_PER_THREAD = 4        # tasks a worker thread gets at least (balance), before they grow up to batch.CHUNK
@@ -223,8 +223,7 @@ def groups_of(tasks, threads, chunk):
     return out
 
 
-def run_tasks(address, tasks, done, bar, run, failed, library_dirs=(), strict=False, options=None, post=None,
-              args_of=None, chunk=32):
+def run_tasks(address, tasks, done, bar, run, failed, options=None, post=None, args_of=None, chunk=32):
     """Run batch jobs `tasks` on the cluster at `address`; done(i, [Item]) for each as it comes in (in any
     order; every task once). bar: the batch.Progress (its `running` is kept up to date). run: the per-job
     function (batch.run_job, sent by reference); failed(job, element, error): the Items of a job (or of its one
@@ -237,6 +236,7 @@ def run_tasks(address, tasks, done, bar, run, failed, library_dirs=(), strict=Fa
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
     files = [t.path for t in tasks] + [t.settings.environment for t in tasks]
+    library_dirs = options.library_dirs if options is not None else ()
     want = manifest(files, list(library_dirs) + [os.path.dirname(os.path.abspath(t.path)) for t in tasks[:1]])
     cwd = want["cwd"]
     args_of = args_of or (lambda task: None)
@@ -246,7 +246,7 @@ def run_tasks(address, tasks, done, bar, run, failed, library_dirs=(), strict=Fa
         def submit(jobs):
             key = "mtlxgen-%s-%s" % (os.path.basename(jobs[0].path)[:40], hashlib.sha1(repr(jobs).encode(
                 "utf-8", "surrogatepass")).hexdigest()[:12])
-            return client.submit(in_cwd, run, cwd, tuple(jobs), tuple(library_dirs), strict, options, post,
+            return client.submit(in_cwd, run, cwd, tuple(jobs), options, post,
                                  tuple(args_of(job) for job in jobs), key=key, pure=False, retries=0)
 
         futures = {}                # future -> (task indices, element): element None, or the one of a split job

@@ -30,6 +30,7 @@ from .batch import RenderSettings
 from .diagnostics import Loc, MtlxError
 from .files import MAX_BYTES, check_regular, is_inside, read_bounded, regular_file_problem, write_atomic
 from .images import read_image, to_srgb8, write_image
+from .options import GenerateOptions
 from .report import _shown
 
 INDEX_NAME = "index.json"
@@ -421,19 +422,19 @@ def _result(t, index, status, message=(), metrics=None, timings=None, files=None
 
 
 def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tolerance(), workers=None,
-          progress=None, flip=True, library_dirs=(), strict=False, warnings=None, options=None, scheduler=None,
-          shard=None):
+          progress=None, flip=True, warnings=None, options=None, scheduler=None, shard=None):
     """Render and compare. Writes results.json to out_dir and, per material that does not pass,
     NAME.new.png, NAME.golden.png, NAME.diff.png (and NAME.flip.png, NAME.new.exr where they apply)
     side by side; a passing material leaves no images (stale ones from an earlier run are removed).
     Raises MtlxError when there is nothing to check. warnings: a list that receives the warning lines of
-    the documents checked, each once; strict: warnings are errors (the material's status is error);
-    options: how shaders are generated (pipeline.Session keywords: target, ...): a golden is an image, so
-    every target must draw it. scheduler: a Dask scheduler to draw and compare on (cluster.py; None: `workers`
+    the documents checked, each once; options: how shaders are generated (options.GenerateOptions: library_dirs,
+    strict: warnings are errors, the material's status error; target, ...): a golden is an image, so every target
+    must draw it. scheduler: a Dask scheduler to draw and compare on (cluster.py; None: `workers`
     processes here). shard: (K, N), check the K-th (1 to N) of N shards of the elements alone (shard_of); one
     may be empty."""
+    options = GenerateOptions.of(options)
     index = Index(golden_dir)
-    every = tgts = targets(index, paths, library_dirs)
+    every = tgts = targets(index, paths, options.library_dirs)
     if not tgts:
         raise _nothing_to_do(index, paths, "check")
     if shard is not None:
@@ -451,7 +452,7 @@ def check(paths=None, golden_dir=DEFAULT_DIR, out_dir=DEFAULT_OUT, tolerance=Tol
                                   "keep_images": _scene_changed(t.entry.get("settings", {}))}
             for t in tgts_render}
     items = batch.render_jobs(_jobs(tgts_render, settings_for), workers=workers, progress=progress,
-                              library_dirs=library_dirs, strict=strict, options=options, post=compare_drawn,
+                              options=options, post=compare_drawn,
                               post_args=plan, scheduler=scheduler)
     _collect_warnings(items, warnings)
     by_key = {(os.path.abspath(it.path), it.element): it for it in items}
@@ -598,15 +599,16 @@ def _scene_changed(recorded):
 
 # ---------------------------------------------------------------- update
 
-def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, progress=None, library_dirs=(),
-           strict=False, warnings=None, options=None, scheduler=None):
+def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, progress=None, warnings=None, options=None,
+           scheduler=None):
     """Render and (re)write goldens. `settings` (RenderSettings) overrides what each golden recorded;
     new goldens get RenderSettings() by default. Returns [(name, status, message lines)] with status
     created, updated, unchanged or error; the index is saved once at the end. Raises MtlxError when
-    there is nothing to update. warnings, strict, scheduler: as for check(); nothing is written before every
+    there is nothing to update. warnings, options, scheduler: as for check(); nothing is written before every
     element is drawn (a scheduler lost on the way: MtlxError, and the goldens as they were)."""
+    options = GenerateOptions.of(options)
     index = Index(golden_dir)
-    tgts = targets(index, paths, library_dirs)
+    tgts = targets(index, paths, options.library_dirs)
     if not tgts:
         raise _nothing_to_do(index, paths, "update")
 
@@ -625,7 +627,7 @@ def update(paths=None, golden_dir=DEFAULT_DIR, settings=None, workers=None, prog
             plan[(t.path, t.element)] = {"entry": entry, "old": t.entry, "exr_name": t.name + ".exr",
                                          "png": index.file(entry["png"]), "exr": index.file(t.name + ".exr")}
     items = batch.render_jobs(_jobs(tgts, settings_for), workers=workers, progress=progress,
-                              library_dirs=library_dirs, strict=strict, options=options, post=prepare_golden,
+                              options=options, post=prepare_golden,
                               post_args=plan, scheduler=scheduler)
     _collect_warnings(items, warnings)
     by_key = {(os.path.abspath(it.path), it.element): it for it in items}

@@ -2,8 +2,9 @@
 import copy
 import os
 
-from . import document, emit, functions, glslcheck, graph, is_usd, library, nodes, targets
+from . import document, emit, functions, glslcheck, graph, is_usd, library, nodes
 from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
+from .options import GenerateOptions
 from .transparency import transparent_surface
 from .xmlreader import gc_paused
 
@@ -37,20 +38,23 @@ class Session:
     """A document opened for generation: the libraries with the document's own definitions, the
     elements to draw, and whether USD's seed rules apply. Build its elements with graph() / shader().
 
+    options: how shaders are generated (options.GenerateOptions; None: the defaults), with `settings`
+    (GenerateOptions fields as keywords) on top. elements: the element names (or a USD stage's material prim
+    paths) to draw; None: every renderable element.
+
     Warnings (slips MaterialX reads on, read as it reads them) go to `warnings` (a diagnostics.Warnings, the
     caller's if given) as they are met: the document's own when it is read, each element's when it is built.
-    strict: a warning is an error instead: a document with warnings of its own raises here, an element with
+    options.strict: a warning is an error instead: a document with warnings of its own raises here, an element with
     warnings raises where it is built (nothing of it written)."""
 
-    def __init__(self, path, elements=None, library_dirs=(), usd_seed_rules=None, environment="fis",
-                 usd_options=None, strict=False, warnings=None, target="glsl", interface=None, max_lights=0):
+    def __init__(self, path, options=None, elements=None, warnings=None, **settings):
         self.path = path
-        self.max_lights = int(max_lights)
-        from .reduce import Interface
-        self.interface = interface if isinstance(interface, Interface) else Interface(interface or "complete")
-        self.environment = environment
-        self.target = targets.get(target).name
-        self.strict = strict
+        self.options = options = GenerateOptions.of(options, **settings)
+        self.max_lights = options.max_lights
+        self.interface = options.make_interface()       # its own: it records which kept names matched
+        self.environment = options.environment
+        self.target = options.target
+        self.strict = strict = options.strict
         self.warnings = warnings if warnings is not None else Warnings()
         self.element_warnings = {}          # element name -> [(Loc, message)] met building it
         self.element_notes = {}             # element name -> [(Loc, message)]: its textures that cannot be read
@@ -58,7 +62,7 @@ class Session:
         self.texture_inputs = {}            # element name -> {sampler uniform: Loc of the input naming its file}
         self._doc_names_unreadable = None   # _names_unreadable_textures(), once known
         try:
-            self.doc = load_document(path, library_dirs, usd_options)
+            self.doc = load_document(path, options.library_dirs, options.stage_options(path))
         except MtlxError as e:          # the document's warnings too, met before its problems
             if strict and e.warnings:
                 raise MtlxError(strict_error(e.warnings).problems + e.problems) from None
@@ -71,11 +75,12 @@ class Session:
         if library._materialx_library_root() is None:       # MaterialX's nodedefs come with its wheel
             raise ModuleNotFoundError("No module named 'MaterialX' (pip install materialx): its data libraries "
                                       "define the standard nodes", name="MaterialX")
-        self.library = library.load_library(library_dirs).overlay(self.doc)   # once per document
+        self.library = library.load_library(options.library_dirs).overlay(self.doc)   # once per document
         self.stage = getattr(self.doc, "usd", None)     # usdstage.StageInfo for a USD stage
         if self.stage is not None and elements:          # elements named by prim path too
             elements = [self.stage.element_for(e) for e in elements]
         self.elements = list(elements or graph.renderable_elements(self.doc))
+        usd_seed_rules = options.usd_seed_rules
         if usd_seed_rules is None:
             from .nodes.usd import comes_from_usd
             usd_seed_rules = comes_from_usd(self.doc)
@@ -234,38 +239,24 @@ def at_inputs(shader, error):
 
 
 @gc_paused()       # hundreds of thousands of objects, no cycles: the collector only slows a large graph 2-3x
-def generate(path, elements=None, library_dirs=(), partial=False, usd_seed_rules=None, environment="fis",
-             usd_options=None, strict=False, warnings=None, target="glsl", interface=None, max_lights=0,
-             unreadable_textures="warning"):
-    """Shaders for the renderable elements of a .mtlx file (or the named ones).
+def generate(path, options=None, elements=None, partial=False, warnings=None, **settings):
+    """Shaders for the renderable elements of a .mtlx file or USD stage (or the named ones).
 
-    usd_seed_rules: resolve USD's preview nodes by the UsdPreviewSurface seed's rules (nodes/usd.py)
-    rather than MaterialX's nodegraphs; None (the default) turns them on for documents from USD.
-    environment: "fis" (filtered importance sampling) or "prefiltered" (emit.ENVIRONMENT_METHODS).
+    options: an options.GenerateOptions (None: the defaults), with `settings` (its fields as keywords:
+    target="essl", max_lights=2, ...) on top. What they mean is told there; a kept name (options.keep) that names
+    no input of the elements generated is a problem, and so is a texture file that cannot be read where
+    options.unreadable_textures is "error" (for whatever draws the shader, which would show a wrong image:
+    render, view, web, three, golden and batch); as a "warning" (the default) it is a warning, an error all the
+    same under strict.
 
-    usd_options: for USD stages, a usdstage.StageOptions (variants, render context).
-
-    warnings: a diagnostics.Warnings that receives every warning met (Session); strict: warnings are errors.
-
-    target: "glsl" (desktop GLSL 4.00), "essl" (WebGL2's GLSL ES 3.00) or "vulkan" (GLSL 4.50 for SPIR-V):
-    targets.py.
-
-    max_lights: how many direct lights (u_lightData[]) lit surfaces take; 0 (default): no light loop, the
-    environment alone (a renderer binding lights needs shaders generated for them: --lights, --max-lights).
-
-    interface: "complete" (default: every public input a uniform), "reduced" or a reduce.Interface (the reduced
-    interface with inputs kept editable): reduce.py. A kept name that names no input of the elements generated is
-    a problem.
-
-    unreadable_textures: what a texture file that cannot be read (not found, not a regular file) is: "warning"
-    (the default: the shader itself is valid; an error all the same under strict) or "error" (for whatever draws
-    the shader, which would show a wrong image: render, view, web, three, golden and batch).
+    warnings: a diagnostics.Warnings that receives every warning met (Session).
 
     Returns [Shader]. Problems in any element are collected and raised together as one MtlxError;
     with partial=True returns (shaders that worked, MtlxError or None) instead.
     """
-    session = Session(path, elements, library_dirs, usd_seed_rules, environment, usd_options, strict, warnings,
-                      target, interface, max_lights)
+    session = Session(path, options, elements, warnings, **settings)
+    options = session.options
+    unreadable_textures, strict = options.unreadable_textures, options.strict
     problems, shaders = Problems(), []
     as_warnings = unreadable_textures == "warning" and not strict
 

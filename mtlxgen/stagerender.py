@@ -409,11 +409,12 @@ _FALLBACK = """<?xml version="1.0"?>
 def fallback_shader(environment="fis"):
     """The shader of meshes without a material: a UsdPreviewSurface whose diffuseColor is set per mesh."""
     from . import pipeline
+    from .options import GenerateOptions
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "display_color.mtlx")
         with open(path, "w") as f:
             f.write(_FALLBACK)
-        return pipeline.generate(path, usd_seed_rules=True, environment=environment)[0]
+        return pipeline.generate(path, GenerateOptions(usd_seed_rules=True, environment=environment))[0]
 
 
 def render_stage(renderer, view, shaders, fallback):

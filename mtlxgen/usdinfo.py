@@ -6,11 +6,12 @@ from . import pipeline
 from .diagnostics import MtlxError
 
 
-def print_info(path, library_dirs=(), usd_seed_rules=None, options=None, out=None):
+def print_info(path, options=None, out=None):
     """`mtlxgen info SCENE.usd`: each material with its prim, the surface drawn, its shaders and their
-    ids, its graph, and what could not be resolved. Returns the exit status (1 where anything was not)."""
+    ids, its graph, and what could not be resolved. options: an options.GenerateOptions (library_dirs,
+    usd_seed_rules, variants, render_context, strict). Returns the exit status (1 where anything was not)."""
     out = out or sys.stdout
-    session = pipeline.Session(path, None, library_dirs, usd_seed_rules, usd_options=options)
+    session = pipeline.Session(path, options)
     stage = session.stage
     opts = stage.options
     print("%s (USD stage: %d material%s; render context %s%s)"

@@ -139,15 +139,13 @@ class OurGenerator:
     dragging it back to zero and off again sets a value. keep() keeps one at once (the panel edits a folded
     input). The pictures are those of the complete interface (fold.py computes what the GPU would)."""
 
-    def __init__(self, library_dirs=(), usd_options=None, strict=False, usd_seed_rules=None, interface=None,
-                 max_lights=0, specialize=True):
-        self.library_dirs = tuple(library_dirs)
-        self.max_lights = max_lights        # a light rig given: its shaders loop over lights (pipeline.generate)
-        self.interface = interface          # None / "complete", "reduced" or a reduce.Interface (--interface)
-        self.usd_options = usd_options
-        self.strict = strict
-        self.usd_seed_rules = usd_seed_rules
-        self.specialize = specialize and interface in (None, "complete")
+    def __init__(self, options=None, specialize=True):
+        from .options import GenerateOptions
+        # options.GenerateOptions (None: the defaults); a light rig given: max_lights, its shaders loop over lights.
+        # The environment method is each open()'s (E toggles it).
+        self.options = GenerateOptions.of(options)
+        self.library_dirs = self.options.library_dirs
+        self.specialize = specialize and self.options.interface == "complete"
         self.kept = {}                      # element -> uniforms kept for good (specialize)
         self._lock = threading.Lock()
 
@@ -155,8 +153,7 @@ class OurGenerator:
         from . import pipeline
         from .diagnostics import Warnings
         warnings = Warnings()
-        session = pipeline.Session(path, None, self.library_dirs, self.usd_seed_rules, environment, self.usd_options,
-                                   self.strict, warnings, interface=self.interface, max_lights=self.max_lights)
+        session = pipeline.Session(path, self.options.replace(environment=environment), warnings=warnings)
         session.warning_list = warnings
         return session
 
@@ -554,9 +551,10 @@ class Viewer:
         self.out = out or sys.stderr
         self.size = tuple(size)
         from .interface import LIGHTS_LIMIT
+        from .options import GenerateOptions
         # with a rig, shaders take as many lights as a rig may hold (the rig file is watched and may grow); the
         # loop runs over the bound ones only, so the bound costs the array's size, not time
-        self.generator = generator or OurGenerator(max_lights=LIGHTS_LIMIT if lights_file else 0)
+        self.generator = generator or OurGenerator(GenerateOptions(max_lights=LIGHTS_LIMIT if lights_file else 0))
         self.environment_method = environment_method
         self.env_file = os.path.abspath(env_file) if env_file else None
         self.lights_file = os.path.abspath(lights_file) if lights_file else None
@@ -1392,9 +1390,8 @@ def run(args):
     # no --interface asked: the zero-weight specialization (OurGenerator); --interface complete turns it off
     asked = getattr(args, "interface", None) is not None or getattr(args, "keep", None) or getattr(args, "keep_file",
                                                                                                    None)
-    generator = OurGenerator(args.library, getattr(args, "usd_options", None), args.strict, args.usd_seed_rules,
-                             getattr(args, "shader_interface", None) if asked else None,
-                             LIGHTS_LIMIT if args.lights else 0, specialize=not asked)
+    generator = OurGenerator(args.generate_options.replace(max_lights=LIGHTS_LIMIT if args.lights else 0),
+                             specialize=not asked)
     viewer = None
     try:
         viewer = Viewer(window.ctx, args.file, size=window.framebuffer_size() if not headless else size,

@@ -90,7 +90,7 @@ def _sphere_geometry(size=TEST_SIZE):
 
 def _render(renderer, body, element, name="doc.mtlx", tmp_path=None):
     path = write_doc(tmp_path, body, name=name)
-    shader = pipeline.generate(path, [element])[0]
+    shader = pipeline.generate(path, elements=[element])[0]
     return renderer.render(shader), shader
 
 

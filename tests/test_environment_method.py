@@ -33,15 +33,15 @@ def _pair(renderer, tmp_path, **kw):
     path = write_doc(tmp_path, DOC.format(**args))
     images = []
     for method in ("fis", "prefiltered"):
-        (shader,) = pipeline.generate(path, ["m"], environment=method)
+        (shader,) = pipeline.generate(path, elements=["m"], environment=method)
         images.append(renderer.render(shader))
     return images
 
 
 def test_prefiltered_shader_is_marked(tmp_path):
     path = write_doc(tmp_path, DOC.format(metal=1.0, rough=0.3, transmission=0.0))
-    (fis,) = pipeline.generate(path, ["m"])
-    (pre,) = pipeline.generate(path, ["m"], environment="prefiltered")
+    (fis,) = pipeline.generate(path, elements=["m"])
+    (pre,) = pipeline.generate(path, elements=["m"], environment="prefiltered")
     assert "#define MG_ENV_PREFILTERED" in pre.fragment and "#define MG_ENV_PREFILTERED" not in fis.fragment
     assert fis.manifest["environment"] == "fis" and pre.manifest["environment"] == "prefiltered"
 
@@ -57,7 +57,7 @@ def test_unlit_shader_has_no_environment_field(tmp_path):
 def test_unknown_method_is_refused(tmp_path):
     path = write_doc(tmp_path, DOC.format(metal=1.0, rough=0.3, transmission=0.0))
     with pytest.raises(ValueError):
-        pipeline.generate(path, ["m"], environment="bogus")
+        pipeline.generate(path, elements=["m"], environment="bogus")
     r = subprocess.run([sys.executable, os.path.join(ROOT, "cli.py"), "generate", path, "-o", str(tmp_path / "o"),
                         "--environment", "bogus"], capture_output=True, text=True)
     assert r.returncode == 1 and "invalid choice" in r.stderr and "Traceback" not in r.stderr

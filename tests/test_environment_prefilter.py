@@ -124,8 +124,8 @@ def seven_errors(size, reference_samples=2048):
     with render.Renderer(size=size) as r:
         for rel, el in SEVEN:
             path = os.path.join(ROOT, "examples", rel)
-            (f,) = pipeline.generate(path, [el])
-            (p,) = pipeline.generate(path, [el], environment="prefiltered")
+            (f,) = pipeline.generate(path, elements=[el])
+            (p,) = pipeline.generate(path, elements=[el], environment="prefiltered")
             r.env_samples = reference_samples
             ref = r.render(f)
             r.env_samples = 64

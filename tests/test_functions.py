@@ -60,7 +60,7 @@ def inline_shader(path, element=None):
     saved = functions.signature_ok
     functions.signature_ok = lambda nd: False
     try:
-        return pipeline.generate(path, [element] if element else None)[0]
+        return pipeline.generate(path, elements=[element] if element else None)[0]
     finally:
         functions.signature_ok = saved
 
@@ -101,7 +101,7 @@ def test_emitted_once_per_library_and_settings(tmp_path):
 
 def test_compile_time_inputs_specialise_the_function(tmp_path):
     path = write_doc(tmp_path, PICKS)
-    s = pipeline.generate(path, ["G/out"])[0]
+    s = pipeline.generate(path, elements=["G/out"])[0]
     names = [n for n in definitions(s.fragment) if n.startswith("mg_ND_pick")]
     assert len(names) == 2                                   # index 0 and index 2: two variants, q2 shares p2's
     texts = {n: s.fragment[s.fragment.index("void %s(" % n):] for n in names}
@@ -117,12 +117,12 @@ def test_output_depends_on_the_shader_alone_not_on_what_was_generated_before(tmp
     <pick name="p2" type="float"><input name="which" type="integer" value="2" /></pick>
     <output name="out" type="float" nodename="p2" />
   </nodegraph>""", "other.mtlx")
-    before = pipeline.generate(other, ["G/out"])[0]
+    before = pipeline.generate(other, elements=["G/out"])[0]
     assert "mg_ND_pick" in before.fragment
-    pipeline.generate(one, ["G/out"])
-    assert pipeline.generate(other, ["G/out"])[0].fragment == before.fragment
+    pipeline.generate(one, elements=["G/out"])
+    assert pipeline.generate(other, elements=["G/out"])[0].fragment == before.fragment
     fresh = pipeline.generate(write_doc(tmp_path, open(other).read().split("\n", 2)[2].rsplit("</materialx>", 1)[0],
-                                        "again.mtlx"), ["G/out"])[0]
+                                        "again.mtlx"), elements=["G/out"])[0]
     assert fresh.fragment.replace("again.mtlx", "other.mtlx") == before.fragment
 
 
@@ -134,7 +134,7 @@ def test_a_connected_compile_time_input_is_expanded_in_place(tmp_path):
     <output name="out" type="float" nodename="p" />
   </nodegraph>""")
     with pytest.raises(pipeline.MtlxError, match="must be a constant, it is connected") as e:
-        pipeline.generate(path, ["G/out"])      # as expanded in place: extract's index is compile-time
+        pipeline.generate(path, elements=["G/out"])      # as expanded in place: extract's index is compile-time
     with pytest.raises(pipeline.MtlxError) as flat:
         inline_shader(path, "G/out")
     assert e.value.lines() == flat.value.lines()
@@ -185,7 +185,7 @@ def test_an_implementation_using_itself_is_refused_as_before(tmp_path):
 def test_function_shaders_are_valid_for_every_target(tmp_path, target):
     for doc in (TWO_CHECKERS, PICKS):
         path = write_doc(tmp_path, doc)
-        for s in pipeline.generate(path, ["M" if doc is TWO_CHECKERS else "G/out"], target=target):
+        for s in pipeline.generate(path, elements=["M" if doc is TWO_CHECKERS else "G/out"], target=target):
             assert definitions(s.fragment)
             assert validate(s, str(tmp_path), target) == []
 
@@ -196,6 +196,6 @@ def test_the_same_pixels_as_expanded_in_place(tmp_path):
     for doc in (TWO_CHECKERS, PICKS):
         path = write_doc(tmp_path, doc)
         element = "M" if doc is TWO_CHECKERS else "G/out"
-        a, b = pipeline.generate(path, [element])[0], inline_shader(path, element)
+        a, b = pipeline.generate(path, elements=[element])[0], inline_shader(path, element)
         assert a.fragment != b.fragment
         assert np.array_equal(np.asarray(r.render(a)), np.asarray(r.render(b)))

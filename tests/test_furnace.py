@@ -260,7 +260,7 @@ class Furnace:
             return self.results[case.name]
         from tests.util import write_doc
         path = write_doc(tmp_dir, case.body, name="furnace_%d.mtlx" % CASE_IDS.index(case.name))
-        shader = pipeline.generate(path, [case.element])[0]
+        shader = pipeline.generate(path, elements=[case.element])[0]
         r = self.r
         ctx = r.ctx
         ctx.__enter__()

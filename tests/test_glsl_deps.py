@@ -197,7 +197,7 @@ def test_big_tables_vanish_where_unused():
     assert "MG_EPBR_" not in shader.fragment
     sheen = lib("pbrlib/bsdf/sheen.glsl")
     assert any("MG_SHEEN_CK_ALBEDO" in it.names for it in sheen.items)
-    shader = pipeline.generate(os.path.join(ROOT, "examples", "pbs", "pbs_nodes.mtlx"), ["brushed_gold"])[0]
+    shader = pipeline.generate(os.path.join(ROOT, "examples", "pbs", "pbs_nodes.mtlx"), elements=["brushed_gold"])[0]
     assert "MG_SHEEN_CK_ALBEDO" not in shader.fragment
 
 
@@ -273,9 +273,9 @@ def test_generated_shaders_hold_no_function_that_nothing_calls(shaders):
 
 def test_generated_shaders_are_smaller_and_keep_their_markers(shaders, monkeypatch):
     path, element = os.path.join(ROOT, "examples", "stride", "stride_metalness.mtlx"), "M_gold"
-    small = pipeline.generate(path, [element])[0].fragment
+    small = pipeline.generate(path, elements=[element])[0].fragment
     monkeypatch.setenv("MTLXGEN_GLSL_DCE", "0")
-    whole = pipeline.generate(path, [element])[0].fragment
+    whole = pipeline.generate(path, elements=[element])[0].fragment
     assert len(small) < 0.85 * len(whole)
     assert set(re.findall(r"^// ---- glsl_lib/(\S+)$", small, re.M)) <= set(
         re.findall(r"^// ---- glsl_lib/(\S+)$", whole, re.M))
@@ -299,9 +299,9 @@ PIXEL_CASES = [
 
 @pytest.mark.parametrize("path, element", PIXEL_CASES, ids=[os.path.basename(p) for p, _ in PIXEL_CASES])
 def test_reachable_code_draws_the_pixels_of_whole_files(renderer, monkeypatch, path, element):
-    small = pipeline.generate(path, [element] if element else None)[0]
+    small = pipeline.generate(path, elements=[element] if element else None)[0]
     monkeypatch.setenv("MTLXGEN_GLSL_DCE", "0")
-    whole = pipeline.generate(path, [small.element])[0]
+    whole = pipeline.generate(path, elements=[small.element])[0]
     assert len(small.fragment) < len(whole.fragment)
     a, b = renderer.render(small), renderer.render(whole)
     assert np.array_equal(a, b, equal_nan=True), float(np.nanmax(np.abs(a - b)))
@@ -392,12 +392,12 @@ def test_a_shader_holds_film_code_only_where_a_film_can_be(tmp_path, renderer, m
                                                            film_code):
     path = tmp_path / "film.mtlx"
     path.write_text(FILM_DOC % thickness)
-    s = pipeline.generate(str(path), ["mat"], interface=interface, max_lights=1)[0]
+    s = pipeline.generate(str(path), elements=["mat"], interface=interface, max_lights=1)[0]
     code = glsldeps.compact(s.fragment)        # (comments may name the switch)
     assert ("mg_thin_film" in code) == film_code and "MG_NO_THIN_FILM" not in code
     # the same pixels as the shader pasted with the film code (the switch never set)
     monkeypatch.setattr(emit.Emitter, "paste_switches", lambda self: set())
-    whole = pipeline.generate(str(path), ["mat"], interface=interface, max_lights=1)[0]
+    whole = pipeline.generate(str(path), elements=["mat"], interface=interface, max_lights=1)[0]
     assert "mg_thin_film" in whole.fragment
     assert (len(s.fragment) < len(whole.fragment)) == (not film_code)
     a, b = renderer.render(s), renderer.render(whole)

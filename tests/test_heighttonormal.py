@@ -92,7 +92,7 @@ def test_heighttonormal_shading_matches_materialx(harness, reference, tmp_path, 
 
 
 def _ours(harness, path):
-    s = pipeline.generate(path, ["m"])[0]
+    s = pipeline.generate(path, elements=["m"])[0]
     return harness.render_timed(s.vertex, s.fragment, None, {})[0]
 
 
@@ -126,11 +126,11 @@ def test_raw_heighttonormal_mirror_keeps_the_furnace(furnace, reference, tmp_pat
             vs, fs, tex, _ = reference.generate(path, "m")
             img = furnace.render_timed(vs, fs, {}, tex)[0]
         else:
-            img = furnace.render(pipeline.generate(path, ["m"])[0])
+            img = furnace.render(pipeline.generate(path, elements=["m"])[0])
         return img[..., :3][furnace_mask].mean(-1)
     raw = write_doc(tmp_path, _shaded("mirror", height, "raw", "5", roughness="0.8"), name="raw.mtlx")
     unit = write_doc(tmp_path, _shaded("mirror", height, "normalized", "5", roughness="0.8"), name="unit.mtlx")
-    furnace_mask = furnace.render(pipeline.generate(raw, ["m"])[0])[..., 3] > 0.5
+    furnace_mask = furnace.render(pipeline.generate(raw, elements=["m"])[0])[..., 3] > 0.5
     ours = sphere(raw)
     assert abs(ours.mean() - 1.0) < 0.01 and ours.max() < 1.02, (ours.mean(), ours.max())
     theirs_unit = sphere(unit, theirs=True)

@@ -85,7 +85,7 @@ def test_a_connection_naming_no_output_reads_the_first_with_a_warning(tmp_path, 
     path = write_doc(tmp_path, THREE + TWO % TWO_OUTPUTS + '<two name="t" type="multioutput" />' +
                      unlit("m", connection))
     seen = Warnings()
-    shader = pipeline.generate(path, ["m"], warnings=seen)[0]
+    shader = pipeline.generate(path, elements=["m"], warnings=seen)[0]
     assert len(seen) == 1 and "without naming" in seen.lines()[0] and "as MaterialX does" in seen.lines()[0]
     assert np.allclose(centre(renderer, shader), first, atol=0.01)
     assert_parity_with_materialx(renderer, reference, path, "m")
@@ -115,7 +115,7 @@ def test_implementation_outputs_named_otherwise_pair_by_position(tmp_path, rende
     path = write_doc(tmp_path, TWO % outputs + '<two name="t" type="multioutput" />' +
                      unlit("m", 'nodename="t" output="%s"' % read))
     seen = Warnings()
-    shader = pipeline.generate(path, ["m"], warnings=seen)[0]
+    shader = pipeline.generate(path, elements=["m"], warnings=seen)[0]
     assert len(seen) == 1 and "paired by position, as MaterialX pairs them" in seen.lines()[0], seen.lines()
     assert np.allclose(centre(renderer, shader), 0.5 * np.array(rgb), atol=0.01)
     assert_parity_with_materialx(renderer, reference, path, "m")
@@ -127,7 +127,7 @@ def test_a_single_output_implementation_named_otherwise_is_its_output(tmp_path, 
 <nodegraph name="NG_one" nodedef="ND_one">%s<output name="result" type="color3" nodename="c" /></nodegraph>
 <one name="t" type="color3" />""" % constant("c", GREEN) + unlit("m", 'nodename="t"'))
     seen = Warnings()
-    shader = pipeline.generate(path, ["m"], warnings=seen)[0]
+    shader = pipeline.generate(path, elements=["m"], warnings=seen)[0]
     assert len(seen) == 1 and "names its outputs 'result' where ND_one declares 'out'" in seen.lines()[0]
     assert np.allclose(centre(renderer, shader), GREEN, atol=0.01)
     assert_parity_with_materialx(renderer, reference, path, "m")
@@ -138,7 +138,7 @@ def test_an_implementation_lacking_an_output_is_refused(tmp_path):
     path = write_doc(tmp_path, TWO % '<output name="a" type="color3" nodename="ma" />' +
                      '<two name="t" type="multioutput" />' + unlit("m", 'nodename="t" output="b"'))
     with pytest.raises(MtlxError, match="nodegraph 'NG_two' implements ND_two but has no output 'b'"):
-        pipeline.generate(path, ["m"])
+        pipeline.generate(path, elements=["m"])
 
 
 @pytest.mark.parametrize("element,rgb", [("g/first", RED), ("g/second", GREEN), ("g/third", BLUE)])

@@ -62,6 +62,6 @@ def test_min_and_max_component_render_the_channel_they_name(renderer):
     for name, which, value in cases:
         channels = [float(v) for v in value.split(",")]
         expected = min(channels) if which == "min" else max(channels)
-        img = renderer.render(pipeline.generate(path, [name + "/out"])[0])
+        img = renderer.render(pipeline.generate(path, elements=[name + "/out"])[0])
         centre = img[img.shape[0] // 2, img.shape[1] // 2, :3]
         assert np.allclose(centre, expected, atol=1e-5), (name, centre, expected)

@@ -158,7 +158,7 @@ def test_light_nodes_generate_and_a_light_compound_compiles(tmp_path, renderer):
     <output name="out" type="lightshader" nodename="l" />
   </nodegraph>
   <output name="spot_out" type="lightshader" nodename="spot" />""")
-    shaders = pipeline.generate(path, ["g/out", "spot_out"])
+    shaders = pipeline.generate(path, elements=["g/out", "spot_out"])
     img = renderer.render(shaders[0])
     covered = img[..., 3] > 0
     assert np.allclose(img[covered][:, :3], [0.8, 1.6, 2.4], atol=1e-5)     # edf * intensity * 2^exposure

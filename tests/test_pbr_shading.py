@@ -59,7 +59,7 @@ DISPLACED = ON % 0.0 + """
 
 def test_displacement_moves_vertices_along_the_normal(tmp_path, renderer):
     path = write_doc(tmp_path, DISPLACED % 0.2)
-    plain, displaced = pipeline.generate(path, ["mat"])[0], pipeline.generate(path, ["dmat"])[0]
+    plain, displaced = pipeline.generate(path, elements=["mat"])[0], pipeline.generate(path, elements=["dmat"])[0]
     assert "mg_displacement" in displaced.vertex and "mg_displacement" not in plain.vertex
     cover = lambda s: float((renderer.render(s)[..., 3] > 0).mean())
     # a sphere of radius 1.2 covers (1.2)^2 as much of the frame, give or take perspective
@@ -74,7 +74,7 @@ def test_vector_displacement_uses_the_tangent_frame(tmp_path):
     <input name="surfaceshader" type="surfaceshader" nodename="surf" />
     <input name="displacementshader" type="displacementshader" nodename="d" />
   </surfacematerial>"""
-    s = pipeline.generate(write_doc(tmp_path, body), ["dmat"])[0]
+    s = pipeline.generate(write_doc(tmp_path, body), elements=["dmat"])[0]
     assert "i_tangent" in s.vertex and "cross(i_normal, i_tangent)" in s.vertex
 
 

@@ -15,6 +15,6 @@ def test_pbs_example_matches_materialx(renderer, reference, material):
 
 def test_opacity_reaches_the_output_alpha(renderer):
     from mtlxgen import pipeline
-    img = renderer.render(pipeline.generate(PBS, ["translucent_velvet"])[0])
+    img = renderer.render(pipeline.generate(PBS, elements=["translucent_velvet"])[0])
     covered = img[..., 3] > 0
     assert abs(float(img[covered][:, 3].mean()) - 0.8) < 0.01

@@ -94,7 +94,7 @@ def draw(harness, reference, tmp_path, body, name, lift=False):
     theirs, _ = harness.render_timed(vs, fs, None, tex)
     if not lift:
         return harness_render_ours(harness, path, "m"), theirs
-    shader = pipeline.generate(path, ["m"])[0]
+    shader = pipeline.generate(path, elements=["m"])[0]
     ours, _ = harness.render_timed(shader.vertex, unbounded(shader.fragment), None, {})
     return ours, theirs
 
@@ -191,7 +191,7 @@ def furnace():
 def furnace_images(furnace, reference, tmp_path, body):
     """(ours, ours with the cap lifted, MaterialX's) red channel and coverage in the white furnace."""
     path = write_doc(tmp_path, body, name="furnace.mtlx")
-    shader = pipeline.generate(path, ["m"])[0]
+    shader = pipeline.generate(path, elements=["m"])[0]
     ours = furnace.render(shader)
     lifted, _ = furnace.render_timed(shader.vertex, unbounded(shader.fragment), {}, {})
     vs, fs, tex, _ = reference.generate(path, "m")

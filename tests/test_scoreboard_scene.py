@@ -102,7 +102,7 @@ def _both_draw_the_same(harness, scoreboard_harness, who, vertex, fragment, text
 def test_our_scoreboard_scene_draws_what_the_scoreboard_harness_draws(case, harness, scoreboard_harness, reference,
                                                                      tmp_path):
     path, element = CASES[case](tmp_path)
-    ours = pipeline.generate(path, [element])[0]
+    ours = pipeline.generate(path, elements=[element])[0]
     if case not in OURS_ONLY:
         _both_draw_the_same(harness, scoreboard_harness, "MaterialX's", *reference.generate(path, element)[:3])
     _both_draw_the_same(harness, scoreboard_harness, "ours", ours.vertex, ours.fragment,
@@ -116,7 +116,7 @@ def test_our_scoreboard_scene_binds_and_leaves_unset_what_the_scoreboard_harness
 
 def test_unreadable_texture_without_default_reads_the_same_whatever_was_drawn_before(tmp_path, library):
     path, element = _ies_doc(tmp_path)
-    ours = pipeline.generate(path, [element])[0]
+    ours = pipeline.generate(path, elements=[element])[0]
     files = {t["uniform"]: t["file"] for t in ours.manifest["textures"]}
     from mtlxgen.render import Renderer
     with Renderer.scoreboard(TEST_SIZE) as fresh:           # .ies unreadable in the scoreboard scene

@@ -112,7 +112,7 @@ def test_film_ior_below_one_leaves_the_bare_interface(harness, tmp_path):
     def draw(**film):
         path = write_doc(tmp_path, _bsdf("dielectric_bsdf", ior=1.5, roughness="0.1, 0.1", **film),
                          name="f%d.mtlx" % len(film))
-        s = pipeline.generate(path, ["m"])[0]
+        s = pipeline.generate(path, elements=["m"])[0]
         return harness.render_timed(s.vertex, s.fragment, None, {})[0]
     filmed, bare = draw(thinfilm_thickness=550, thinfilm_ior=0.8), draw()
     d = compare.diff_map(filmed, bare)
@@ -129,7 +129,7 @@ def _schlick_doc(tmp_path, thickness, film_ior, color0, color82="1, 1, 1", rough
 
 def _ours_with_share(harness, path, element, share):
     """Our shader drawn in the scoreboard's scene with MG_THIN_FILM_SCHLICK_R23 set to `share`."""
-    s = pipeline.generate(path, [element])[0]
+    s = pipeline.generate(path, elements=[element])[0]
     assert "MG_THIN_FILM_SCHLICK_R23" in s.fragment
     head, rest = s.fragment.split("\n", 1)
     assert head.startswith("#version")
@@ -185,7 +185,7 @@ def test_schlick_film_of_ior_one_is_no_film(harness, reference, tmp_path):
     color0 = "0.5, 0.5, 0.5"
 
     def draw(path):
-        s = pipeline.generate(path, ["m"])[0]
+        s = pipeline.generate(path, elements=["m"])[0]
         return harness.render_timed(s.vertex, s.fragment, None, {})[0]
     filmed = _schlick_doc(tmp_path, 400, 1.0, color0, name="filmed.mtlx")
     ours, ours_bare = draw(filmed), draw(_schlick_doc(tmp_path, 0, 1.5, color0, name="bare.mtlx"))
@@ -210,7 +210,7 @@ def test_film_over_a_perfect_mirror_reflects_everything(furnace, reference, tmp_
     """White furnace: a film over a Schlick mirror (color0 = color90 = 1) absorbs nothing, so the sphere
     reflects the whole environment (within 1%, as the bare mirror); MaterialX's half share loses about half."""
     path = _schlick_doc(tmp_path, thickness, film_ior, "1, 1, 1", rough=0.3)
-    s = pipeline.generate(path, ["m"])[0]
+    s = pipeline.generate(path, elements=["m"])[0]
     ours = furnace.render(s)
     mask = ours[..., 3] > 0.5
     values = ours[..., :3][mask]
@@ -252,7 +252,7 @@ def test_negative_ior_reflects_as_its_magnitude(harness, tmp_path):
     no longer multiplies the compensation)."""
     def draw(ior):
         path = write_doc(tmp_path, _bsdf("dielectric_bsdf", ior=ior, roughness="0.4, 0.4"), name="i%s.mtlx" % ior)
-        s = pipeline.generate(path, ["m"])[0]
+        s = pipeline.generate(path, elements=["m"])[0]
         return harness.render_timed(s.vertex, s.fragment, None, {})[0]
     d = compare.diff_map(draw("-1.5"), draw("1.5"))
     assert d.max() <= 1, d.max()

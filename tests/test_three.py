@@ -37,7 +37,7 @@ def write_module(out, doc, element, three=None, *extra):
     assert rc == 0
     if three:
         os.symlink(three, out / "three")
-    stem = pipeline.generate(_path(doc), [element])[0].stem
+    stem = pipeline.generate(_path(doc), elements=[element])[0].stem
     return stem
 
 
@@ -61,7 +61,7 @@ def test_three_example_draws_what_render_draws(browser, three_dir, renderer, tmp
         opened.page.context.close()
     finally:
         server.close()
-    shader = pipeline.generate(_path(doc), [element])[0]
+    shader = pipeline.generate(_path(doc), elements=[element])[0]
     want = images.to_srgb8(renderer.render(shader))
     assert_parity("three %s" % name, got, want)
 
@@ -86,7 +86,7 @@ def test_three_prefiltered_draws_what_render_draws(browser, three_dir, renderer,
     finally:
         server.close()
     assert bound == [10, 1000, 1001, 1008], bound      # 512 x 256: 10 levels; repeat u, clamp v, trilinear
-    shader = pipeline.generate(_path(doc), [element], environment="prefiltered")[0]
+    shader = pipeline.generate(_path(doc), elements=[element], environment="prefiltered")[0]
     want = images.to_srgb8(renderer.render(shader))
     assert_parity("three prefiltered %s" % element, got, want)
 
@@ -115,7 +115,7 @@ def test_three_unlit_is_render_to_the_byte(browser, three_dir, renderer, tmp_pat
         opened.page.context.close()
     finally:
         server.close()
-    want = images.to_srgb8(renderer.render(pipeline.generate(_path(doc), [element])[0]))
+    want = images.to_srgb8(renderer.render(pipeline.generate(_path(doc), elements=[element])[0]))
     inside = (want[..., 3] == 255) & (got[..., 3] == 255)
     assert inside.sum() > 0.99 * (want[..., 3] == 255).sum() > 0.3 * SIZE * SIZE
     assert np.abs(got.astype(int) - want.astype(int))[inside].max() <= 1

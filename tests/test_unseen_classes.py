@@ -160,7 +160,7 @@ def test_input_naming_a_missing_document_output_reads_its_value_like_materialx(r
     assert_parity_with_materialx(renderer, cms_reference, path, "m")
     with pytest.raises(diagnostics.MtlxError, match="no_such_output"):
         from mtlxgen import pipeline
-        pipeline.generate(path, ["m"], strict=True)
+        pipeline.generate(path, elements=["m"], strict=True)
 
 
 def test_document_outputs_naming_each_other_are_a_cycle(tmp_path):
@@ -170,7 +170,7 @@ def test_document_outputs_naming_each_other_are_a_cycle(tmp_path):
             '</surface_unlit><surfacematerial name="m" type="material"><input name="surfaceshader" '
             'type="surfaceshader" nodename="s" /></surfacematerial>')
     with pytest.raises(diagnostics.MtlxError, match="cycle"):
-        pipeline.generate(write_doc(tmp_path, body), ["m"])
+        pipeline.generate(write_doc(tmp_path, body), elements=["m"])
 
 
 # ---------------------------------------------------------------- value="" on a number, colour or vector
@@ -190,10 +190,10 @@ def test_empty_value_reads_the_default_like_materialx(renderer, cms_reference, t
     path = write_doc(tmp_path, body)
     assert_parity_with_materialx(renderer, cms_reference, path, "m")
     warnings = diagnostics.Warnings()
-    pipeline.generate(path, ["m"], warnings=warnings)
+    pipeline.generate(path, elements=["m"], warnings=warnings)
     assert any("value is empty" in line and ":3: warning:" in line for line in warnings.lines()), warnings.lines()
     with pytest.raises(diagnostics.MtlxError, match="empty"):
-        pipeline.generate(path, ["m"], strict=True)
+        pipeline.generate(path, elements=["m"], strict=True)
 
 
 def test_empty_string_values_stay_empty_strings(tmp_path):
@@ -244,7 +244,7 @@ def test_parameter_element_is_read_as_materialx_reads_it(renderer, cms_reference
     path = write_doc(tmp_path, PARAMETER_BODY, version=version)
     assert_parity_with_materialx(renderer, cms_reference, path, "m")
     warnings = diagnostics.Warnings()
-    shader = pipeline.generate(path, ["m"], warnings=warnings)[0]
+    shader = pipeline.generate(path, elements=["m"], warnings=warnings)[0]
     flagged = [line for line in warnings.lines() if "<parameter>" in line]
     if version == "1.37":                       # upgraded: the parameters are the BSDF's inputs
         assert not flagged
@@ -252,7 +252,7 @@ def test_parameter_element_is_read_as_materialx_reads_it(renderer, cms_reference
     else:
         assert len(flagged) == 2 and all(":3: warning:" in line for line in flagged), flagged
         with pytest.raises(diagnostics.MtlxError, match="parameter"):
-            pipeline.generate(path, ["m"], strict=True)
+            pipeline.generate(path, elements=["m"], strict=True)
 
 
 # ---------------------------------------------------------------- a negative colour on a Schlick curve
@@ -332,7 +332,7 @@ def test_an_opaque_lobe_of_zero_weight_hides_its_base_like_materialx(renderer, c
     extra = ('<input name="roughness" type="vector2" value="0.3, 0.3" />' if top == "conductor_bsdf" else
              '<input name="color" type="color3" value="0.2, 0.9, 0.3" />')
     path = write_doc(tmp_path, bsdf_material(OPAQUE_TOP % (top, weight, extra, top)))
-    monkeypatch.setattr("util.generate_one", lambda p, e=None: pipeline.generate(p, [e], interface=interface)[0])
+    monkeypatch.setattr("util.generate_one", lambda p, e=None: pipeline.generate(p, elements=[e], interface=interface)[0])
     ours, theirs = render_with_materialx(renderer, cms_reference, path, "m")
     p = compare.parity(ours, theirs)
     assert p.passes, p

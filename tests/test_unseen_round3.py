@@ -27,7 +27,7 @@ DECLARATION = '<?xml version="1.0" encoding="UTF-8"?>\n'
 
 def warnings_of(path, elements=None):
     seen = diagnostics.Warnings()
-    shaders = pipeline.generate(path, elements, warnings=seen)
+    shaders = pipeline.generate(path, elements=elements, warnings=seen)
     return shaders, seen.lines()
 
 
@@ -277,7 +277,7 @@ def test_usd_output_no_definition_declares_stays_an_error(tmp_path):
     path = str(tmp_path / "bad.usda")
     open(path, "w").write(text)
     with pytest.raises(diagnostics.MtlxError, match="does not declare"):
-        pipeline.generate(path, ["Looks_Red"])
+        pipeline.generate(path, elements=["Looks_Red"])
 
 
 # ---------------------------------------------------------------- refusals: where, what and the names there are
@@ -324,7 +324,7 @@ def test_refusals_name_the_input_its_line_and_the_closest_names(tmp_path, elemen
     path = refused_doc(tmp_path)
     seen = diagnostics.Warnings()
     try:
-        pipeline.generate(path, [element], warnings=seen, strict=element == "o_ad")
+        pipeline.generate(path, elements=[element], warnings=seen, strict=element == "o_ad")
         raise AssertionError("not refused")
     except diagnostics.MtlxError as e:
         lines = e.lines()
@@ -334,7 +334,7 @@ def test_refusals_name_the_input_its_line_and_the_closest_names(tmp_path, elemen
 def test_unknown_element_lists_the_renderable_elements(tmp_path):
     path = refused_doc(tmp_path)
     with pytest.raises(diagnostics.MtlxError) as e:
-        pipeline.generate(path, ["m_1"])
+        pipeline.generate(path, elements=["m_1"])
     assert e.value.lines() == ["%s:0: no element 'm_1' in the document; did you mean 'm1'? (renderable "
                                "elements: m0, m1)" % path]
 
@@ -345,7 +345,7 @@ def test_unknown_element_list_is_bounded(tmp_path):
                    '</surfacematerial>' % (i, i, i) for i in range(27))
     path = write_doc(tmp_path, body)
     with pytest.raises(diagnostics.MtlxError) as e:
-        pipeline.generate(path, ["nothing_like_it"])
+        pipeline.generate(path, elements=["nothing_like_it"])
     line = e.value.lines()[0]
     assert "(renderable elements: mat00, mat01," in line and "mat19 and 7 more)" in line and "mat20" not in line
 

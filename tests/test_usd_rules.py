@@ -48,7 +48,7 @@ def _texture_doc(tmp_path, file, output="rgba", out_type="color4", tex_inputs=""
 
 
 def _render_centre(renderer, path, rules, element=None):
-    shaders = pipeline.generate(path, [element] if element else None, usd_seed_rules=rules)
+    shaders = pipeline.generate(path, elements=[element] if element else None, usd_seed_rules=rules)
     img = renderer.render(shaders[0])
     return img[60:68, 60:68].reshape(-1, 4).mean(0), shaders[0]
 

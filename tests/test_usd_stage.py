@@ -13,7 +13,7 @@ from util import write_doc
 
 from mtlxgen import images, pipeline
 from mtlxgen.diagnostics import Loc, MtlxError
-from mtlxgen.usdstage import StageOptions, element_name
+from mtlxgen.usdstage import element_name
 
 pxr = pytest.importorskip("pxr", reason="usd-core (a dependency of mtlxgen) is not installed")
 from pxr import Gf, Sdf, Usd, UsdShade, UsdUtils  # noqa: E402
@@ -234,7 +234,7 @@ def scene(tmp_path_factory):
 
 
 def _render(renderer, path, element, **kw):
-    shaders = pipeline.generate(str(path), [element], usd_seed_rules=True, **kw)
+    shaders = pipeline.generate(str(path), elements=[element], usd_seed_rules=True, **kw)
     return renderer.render(shaders[0]), shaders[0]
 
 
@@ -259,7 +259,7 @@ def test_stage_lists_every_material_by_prim_path(scene):
     assert list(doc.usd.materials) == ["Root_Looks_Tiles", "Root_Looks_Gold", "Root_Looks_Both", "Root_Mx_Unlit"]
     assert doc.usd.by_prim["/Root/Looks/Gold"] == "Root_Looks_Gold"
     assert doc.usd.by_prim["/Root/Mx/Unlit"] == "Root_Mx_Unlit"      # where USD's MaterialX plugin puts it
-    session = pipeline.Session(str(scene / "looks.usda"), ["/Root/Looks/Gold"])
+    session = pipeline.Session(str(scene / "looks.usda"), elements=["/Root/Looks/Gold"])
     assert session.elements == ["Root_Looks_Gold"] and session.usd_seed_rules
 
 
@@ -292,7 +292,7 @@ def test_render_context_chooses_the_surface(renderer, scene):
     ref, _ = _render(renderer, scene / "unlit.mtlx", "Unlit")
     _same(mx, ref, "mtlx context vs unlit.mtlx")
     universal, shader = _render(renderer, scene / "looks.usda", "Root_Looks_Both",
-                                usd_options=StageOptions(render_context="universal"))
+                                render_context="universal")
     assert shader.manifest["usd"]["render_context"] == "universal"
     centre = universal[60:68, 60:68, :3].reshape(-1, 3).mean(0)
     assert centre[0] > 3 * centre[1] and centre[0] > 3 * centre[2], centre       # the red preview surface
@@ -404,15 +404,15 @@ def _diffuse(shader):
 def test_variants_are_selected_before_reading(tmp_path):
     path = _variant_stage(tmp_path)
     assert _diffuse(pipeline.generate(path)[0]) == [0.75, 0.0, 0.0]
-    blue = pipeline.generate(path, usd_options=StageOptions(variants=(("look", "blue"),)))[0]
+    blue = pipeline.generate(path, variants=(("look", "blue"),))[0]
     assert _diffuse(blue) == [0.0, 0.0, 0.75]
     with open(path) as f:
         assert 'string look = "red"' in f.read()            # selected in the session layer, the file untouched
     with pytest.raises(MtlxError) as e:
-        pipeline.generate(path, usd_options=StageOptions(variants=(("look", "green"),)))
+        pipeline.generate(path, variants=(("look", "green"),))
     assert e.value.lines() == ["%s:/Looks/Paint: variant set 'look' has no variant 'green' (variants: blue, red)" % path]
     with pytest.raises(MtlxError) as e:
-        pipeline.generate(path, usd_options=StageOptions(variants=(("finish", "matte"),)))
+        pipeline.generate(path, variants=(("finish", "matte"),))
     assert e.value.lines() == ["%s:0: no variant set 'finish' on the stage (variant sets: look)" % path]
 
 
@@ -1009,7 +1009,7 @@ def test_roughness_channels_are_read_from_the_usdz_as_authored(renderer, tmp_pat
     over.write_text("\n".join(lines + ["}", "}"]) + "\n")
 
     def draw(path, element):
-        return images.to_srgb8(renderer.render(pipeline.generate(str(path), [element])[0])).astype(int)
+        return images.to_srgb8(renderer.render(pipeline.generate(str(path), elements=[element])[0])).astype(int)
 
     for tex, twin, value, own in cases:
         textured = draw(package, "Roughness_Materials_" + tex)

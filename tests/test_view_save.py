@@ -44,7 +44,7 @@ def inputs(path, element):
 
 
 def values(path, element):
-    s = pipeline.generate(path, [element])[0]
+    s = pipeline.generate(path, elements=[element])[0]
     return {u["name"]: u["value"] for u in s.manifest["uniforms"]}
 
 

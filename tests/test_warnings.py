@@ -12,6 +12,7 @@ import pytest
 
 from mtlxgen import batch, cli, mxtypes, pipeline
 from mtlxgen.diagnostics import MtlxError, Warnings
+from mtlxgen.options import GenerateOptions
 from util import assert_parity_with_materialx, write_doc
 
 WARNING = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+): warning: (?P<message>.+)$")
@@ -186,7 +187,7 @@ def test_batch_warns_once_and_strict_fails_the_element(tmp_path, capsys):
     status, warnings, _ = run(capsys, "batch", path, "-o", str(tmp_path / "b"), "-j", "1", "--no-progress",
                               "--size", "8")
     assert status == 0 and len(warnings) == 1 and "read as 1.842" in warnings[0]
-    items = batch.render_jobs([batch.Job(path)], workers=1, progress=False, strict=True)
+    items = batch.render_jobs([batch.Job(path)], workers=1, progress=False, options=GenerateOptions(strict=True))
     by = {it.element: it for it in items}
     assert by["clean"].ok and not by["clean"].error
     assert not by["slip"].ok and any("an error with --strict" in line for line in by["slip"].error)
@@ -329,12 +330,12 @@ def test_slips_draw_as_materialx_draws_them(tmp_path, renderer, reference, case)
     body, element, messages = SLIPS[case]
     path = write_doc(tmp_path, body.replace("resources/Images", os.path.join(DATA, "resources", "Images")))
     seen = Warnings()
-    pipeline.generate(path, [element], warnings=seen)
+    pipeline.generate(path, elements=[element], warnings=seen)
     lines = seen.lines()
     for message in messages:
         assert any(message in line for line in lines), (message, lines)
     with pytest.raises(MtlxError, match="an error with --strict"):
-        pipeline.generate(path, [element], strict=True)
+        pipeline.generate(path, elements=[element], strict=True)
     assert_parity_with_materialx(renderer, reference, path, element)
 
 
@@ -343,6 +344,6 @@ def test_vector_math_determinant_reads_0_5_0_as_materialx_does(renderer, referen
     from conftest import DATA_TESTSUITE
     path = os.path.join(DATA_TESTSUITE, "stdlib", "math", "vector_math.mtlx")
     seen = Warnings()
-    pipeline.generate(path, ["determinant_matrix44/out"], warnings=seen)
+    pipeline.generate(path, elements=["determinant_matrix44/out"], warnings=seen)
     assert len(seen) == 1 and "'0.5.0'" in seen.lines()[0] and "read as 0.5" in seen.lines()[0], seen.lines()
     assert_parity_with_materialx(renderer, reference, path, "determinant_matrix44/out")

@@ -27,7 +27,7 @@ def renderer():
 
 def reference(renderer, doc, element):
     """`mtlxgen render`'s PNG bytes of the element (the default target) at SIZE and SAMPLES."""
-    shader = pipeline.generate(_path(doc), [element])[0]
+    shader = pipeline.generate(_path(doc), elements=[element])[0]
     return images.to_srgb8(renderer.render(shader))
 
 
@@ -79,7 +79,7 @@ def test_prefiltered_page_draws_what_render_draws(browser, renderer, tmp_path, c
     opened, refused = open_offline(browser, page_path)
     assert refused == [], "the page asked for %s" % refused
     assert not [m for m in opened.console if "box-filtered" in m], opened.console
-    shader = pipeline.generate(_path(doc), [element], environment="prefiltered")[0]
+    shader = pipeline.generate(_path(doc), elements=[element], environment="prefiltered")[0]
     want = images.to_srgb8(renderer.render(shader))
     got = opened.pixels()
     assert_parity("web prefiltered %s" % name, got, want)
@@ -91,7 +91,7 @@ def test_prefiltered_page_without_the_pass_is_off(browser, renderer, tmp_path):
     render's prefiltered picture of standard_surface, so parity there says the pass ran as render's does."""
     from webpages import OVER_FRACTION, parity
     doc, element = "examples/quick_start.mtlx", "M_tiles"
-    shader = pipeline.generate(_path(doc), [element], environment="prefiltered", target="essl")[0]
+    shader = pipeline.generate(_path(doc), elements=[element], environment="prefiltered", target="essl")[0]
     data = web.page_data(shader, web.environment_payload(), SIZE, SAMPLES)
     del data["prefilter"]
     page_path = tmp_path / "box.html"
@@ -99,7 +99,7 @@ def test_prefiltered_page_without_the_pass_is_off(browser, renderer, tmp_path):
     opened, _ = open_offline(browser, page_path)
     got = opened.pixels()
     opened.page.context.close()
-    want = images.to_srgb8(renderer.render(pipeline.generate(_path(doc), [element], environment="prefiltered")[0]))
+    want = images.to_srgb8(renderer.render(pipeline.generate(_path(doc), elements=[element], environment="prefiltered")[0]))
     mean, over = parity(got, want)
     assert over > 2 * OVER_FRACTION, (mean, over)
 
@@ -181,7 +181,7 @@ def test_environment_file_is_the_one_drawn(browser, renderer, tmp_path):
     opened, _ = open_offline(browser, page_path)
     env = render.load_environment(env_path)
     with render.Renderer(size=SIZE, env_samples=SAMPLES, environment=env) as r:
-        want = images.to_srgb8(r.render(pipeline.generate(_path("examples/usd/usd_seed_rules.mtlx"), ["gold"])[0]))
+        want = images.to_srgb8(r.render(pipeline.generate(_path("examples/usd/usd_seed_rules.mtlx"), elements=["gold"])[0]))
     assert_parity("web gold --env furnace", opened.pixels(), want)
     sky = reference(renderer, "examples/usd/usd_seed_rules.mtlx", "gold")
     assert np.abs(sky.astype(int) - want.astype(int))[..., :3].mean() > 10     # not the sky's picture
@@ -259,7 +259,7 @@ def test_page_text_from_a_document_is_inert():
 
 
 def test_page_data_holds_the_manifest_values(tmp_path):
-    shader = pipeline.generate(_path("examples/usd/usd_seed_rules.mtlx"), ["leaf"], target="essl")[0]
+    shader = pipeline.generate(_path("examples/usd/usd_seed_rules.mtlx"), elements=["leaf"], target="essl")[0]
     data = web.page_data(shader, web.environment_payload(), SIZE, SAMPLES)
     assert data["uniforms"] == shader.manifest["uniforms"]
     assert {a["name"] for a in data["application"]} >= {"u_envRadiance", "u_viewProjectionMatrix"}

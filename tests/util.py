@@ -22,7 +22,7 @@ def build_graph(tmp_path, body, element, library):
 
 
 def generate_one(path, element=None):
-    shaders = pipeline.generate(path, [element] if element else None)
+    shaders = pipeline.generate(path, elements=[element] if element else None)
     return shaders[0] if element else shaders
 
 
@@ -65,7 +65,7 @@ def assert_parity_with_materialx(renderer, reference, path, element):
 def harness_render_ours(harness, path, element):
     """Our shader for one element drawn by `harness` (a Renderer in the scoreboard's scene) as the scoreboard
     draws it: texture files bound by uniform name, no default colours for unreadable ones."""
-    shader = pipeline.generate(path, [element])[0]
+    shader = pipeline.generate(path, elements=[element])[0]
     img, _ = harness.render_timed(shader.vertex, shader.fragment, None,
                                   {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
     return img

@@ -199,7 +199,7 @@ def draw(renderer, ref, folder, text, name):
     path = os.path.join(folder, name + ".mtlx")
     with open(path, "w") as f:
         f.write(text)
-    shader = pipeline.generate(path, ["m"])[0]
+    shader = pipeline.generate(path, elements=["m"])[0]
     ours = renderer.render(shader)
     vs, fs, tex, _ = ref.generate(path, "m")
     theirs, _ = renderer.render_timed(vs, fs, {}, tex)

@@ -47,7 +47,7 @@ def main():
             print("%-40s MaterialX cannot render it: %s" % (element, str(e).splitlines()[0][:80]))
             continue
         try:
-            shader = pipeline.generate(path, [element])[0]
+            shader = pipeline.generate(path, elements=[element])[0]
             mine, _ = harness.render_timed(shader.vertex, shader.fragment, None,
                                            {t["uniform"]: t["file"] for t in shader.manifest["textures"]})
         except MtlxError as e:

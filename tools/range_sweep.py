@@ -74,7 +74,7 @@ def main():
                                        "value": value.strip()})
                     total += 1
                     try:
-                        shader = pipeline.generate(path, ["m"])[0]
+                        shader = pipeline.generate(path, elements=["m"])[0]
                         ours, _ = harness.render_timed(shader.vertex, shader.fragment, None, {})
                         vs, fs, tex, _ = ref.generate(path, "m")
                         theirs, _ = harness.render_timed(vs, fs, None, tex)

@@ -47,7 +47,7 @@ def measure(renderer, ref, folder, alpha, ior):
     path = os.path.join(folder, "furnace_%g_%g.mtlx" % (alpha, ior))
     with open(path, "w") as f:
         f.write(DOC % (ior, alpha, alpha))
-    shader = pipeline.generate(path, ["m"])[0]
+    shader = pipeline.generate(path, elements=["m"])[0]
     ours = renderer.render(shader)
     lifted, _ = renderer.render_timed(shader.vertex, unbounded(shader.fragment), {}, {})
     vs, fs, tex, _ = ref.generate(path, "m")

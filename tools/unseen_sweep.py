@@ -149,7 +149,7 @@ class Sweep:
         except Exception as e:
             return [], "MaterialX cannot read it: %s" % first_line(e)
         try:
-            shaders, problems = pipeline.generate(path, elements, partial=True)
+            shaders, problems = pipeline.generate(path, elements=elements, partial=True)
         except MtlxError as e:
             shaders, problems = [], e
         except Exception as e:   # a bug of ours: every element fails alike
