@@ -18,6 +18,7 @@ from conftest import DATA_EXAMPLES, DATA_TESTSUITE, EXAMPLES, ROOT, corpus_param
 from util import write_doc
 
 from mtlxgen import compare, fold, pipeline, reduce
+from mtlxgen.options import GenerateOptions
 
 EXAMPLE_FILES = sorted(glob.glob(os.path.join(ROOT, "examples", "**", "*.mtlx"), recursive=True))
 DATA_FILES = [os.path.join(DATA_EXAMPLES, "StandardSurface", "standard_surface_onyx_hextiled.mtlx"),   # textured
@@ -44,8 +45,8 @@ def _elements(paths):
 
 
 def _assert_same_pictures(renderer, path, element):
-    complete = pipeline.generate(path, [element])[0]
-    reduced = pipeline.generate(path, [element], interface="reduced")[0]
+    complete = pipeline.generate(path, elements=[element])[0]
+    reduced = pipeline.generate(path, elements=[element], interface="reduced")[0]
     assert reduced.manifest["interface"] == "reduced" and complete.manifest["interface"] == "complete"
     assert len(reduced.fragment) <= len(complete.fragment)
     p = compare.parity(renderer.render(complete), renderer.render(reduced))
@@ -226,7 +227,7 @@ def test_render_batch_golden_and_view_take_the_interface(tmp_path, capsys):
     assert main(["batch", path, "-o", out, "--size", "16", "-j", "1", "--no-progress", "--interface", "reduced"]) == 0
     assert main(["golden", "check", path, "-o", str(tmp_path / "golden"), "-j", "1", "--no-progress", "--no-flip",
                  "--interface", "reduced"]) == 0, capsys.readouterr()
-    gen = view.OurGenerator(interface="reduced")
+    gen = view.OurGenerator(GenerateOptions(interface="reduced"))
     session = gen.open(path, "fis")
     shown = gen.shader(session, session.elements[0])
     assert shown.manifest["interface"] == "reduced"
