@@ -73,7 +73,7 @@ class MaterialX:
 
 
 def ours(path, elements):
-    shaders, _ = pipeline.generate(path, elements, partial=True)
+    shaders, _ = pipeline.generate(path, elements=elements, partial=True)
     return shaders
 
 
@@ -95,7 +95,7 @@ def common_elements(mx, path):
     if not theirs:
         return [], skipped
     try:
-        shaders, error = pipeline.generate(path, theirs, partial=True)
+        shaders, error = pipeline.generate(path, elements=theirs, partial=True)
     except Exception as e:              # the document fails (or our bug): reported, the run goes on
         shaders, error = [], e
     done = {s.element for s in shaders}
