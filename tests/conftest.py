@@ -57,14 +57,124 @@ def generate_switched(path, switches, **options):
         (error.lines() if error is not None else None)
 
 
+# ---------------------------------------------------------------- what each test needs (markers)
+#
+# gl: a GL context (moderngl on EGL/OSMesa/X11: rendering, glslcheck's driver compile) or a GLSL compiler run
+#     (glslangValidator, spirv-val, ../shared/tools/gpu_proxy); browser: Chromium or Node (the web and three
+#     pages); window: a window on a display (the viewer, on Xvfb). `pytest -m "not gl"` is the fast subset.
+# A test gets its markers from the fixtures it uses (directly or through other fixtures), else from its module
+# below; a test not marked gl that creates a context or runs a compiler fails, saying so (nogl_guard.py).
+
+FIXTURE_MARKS = {
+    "renderer": ("gl",), "harness": ("gl",), "lit_renderer": ("gl",), "stage_renderer": ("gl",),
+    "rig_renderers": ("gl",), "scoreboard_harness": ("gl",), "mxharness": ("gl",),
+    "browser": ("browser", "gl"),           # Chromium draws the pages with WebGL
+}
+# The rest, by module ("test_x": every test in it) or by test ("test_x::test_name", each parametrization): what
+# draws through a helper, a module's own Renderer or OffscreenWindow, or a CLI subprocess (render, batch, golden,
+# view), or runs glslangValidator. A window (Xvfb) is a GL context too.
+_GL, _WINDOW, _BROWSER = ("gl",), ("gl", "window"), ("gl", "browser")
+MODULE_MARKS = {
+    "test_bench_gpu_compilers": _GL, "test_cluster": _GL, "test_golden": _GL, "test_glsl_validity": _GL,
+    "test_render": _GL, "test_scoreboard_scene": _GL, "test_view_edits": _GL, "test_view_keys": _GL,
+    "test_view_progressive": _GL,
+    "test_view": _WINDOW, "test_view_reload": _WINDOW, "test_view_isolated": _WINDOW,
+    "test_web": _BROWSER, "test_three": _BROWSER,
+    "test_closure_weights::test_rough_white_mirror_keeps_its_energy_where_materialx_loses_some": _GL,
+    "test_enterprise_pbr::test_attenuation_darkens_solid_glass_by_beer_lambert": _GL,
+    "test_environment_prefilter::test_levels_hold_the_ggx_lobe": _GL,
+    "test_environment_prefilter::test_seven_materials_prefiltered_error_is_bounded": _GL,
+    "test_environment_prefilter::test_viewer_draws_prefiltered_while_moving_and_fis_when_still": _GL,
+    "test_file_access::test_16k_texture_and_environment_render_in_bounded_memory": _GL,
+    "test_file_access::test_64_channel_texture_decodes_four_channels": _GL,
+    "test_file_access::test_renderer_keeps_a_texture_error_until_the_file_is_forgotten": _GL,
+    "test_file_access::test_text_file_as_a_stage_texture_names_the_attribute": _GL,
+    "test_folders_outputs::test_an_internal_error_in_one_batch_document_is_one_line_naming_it": _GL,
+    "test_folders_outputs::test_batch_reports_each_unreadable_entry_and_draws_the_rest": _GL,
+    "test_folders_outputs::test_dangling_links_and_loops_alone_are_reported_not_a_crash": _GL,
+    "test_folders_outputs::test_empty_member_default_reads_as_the_member_types_zero": _GL,
+    "test_folders_outputs::test_golden_outputs_replace_symlinks_and_the_index_keeps_ordinary_modes": _GL,
+    "test_folders_outputs::test_golden_update_and_check_report_unreadable_entries_and_fail": _GL,
+    "test_folders_outputs::test_screenshot_key_in_the_window_says_why_nothing_is_written": _GL,
+    "test_hostile_sweep::test_batch_of_a_file_name_that_is_not_utf8": _GL,
+    "test_hostile_sweep::test_capture_window_to_a_name_no_image_format_takes_is_one_line": _GL,
+    "test_hostile_sweep::test_golden_of_a_file_name_with_a_line_break_is_checked": _GL,
+    "test_hostile_sweep::test_golden_update_check_and_report_of_a_file_name_that_is_not_utf8": _GL,
+    "test_hostile_sweep::test_images_under_a_folder_name_that_is_not_utf8_are_one_line": _GL,
+    "test_hostile_sweep::test_results_json_with_a_lone_surrogate_is_reported": _GL,
+    "test_hostile_sweep::test_two_channel_environment_is_read_as_grey": _GL,
+    "test_hostile_sweep::test_usdz_texture_climbing_out_of_its_package_is_not_read": _GL,
+    "test_metal_random_walk::test_rough_gold_in_a_white_furnace_follows_the_random_walk": _GL,
+    "test_missing_textures::test_a_texture_that_does_not_decode_is_one_line_at_its_input": _GL,
+    "test_missing_textures::test_batch_and_golden_report_it": _GL,
+    "test_missing_textures::test_commands_that_draw_report_it": _GL,
+    "test_missing_textures::test_view_says_it_and_draws_the_default": _GL,
+    "test_openpbr_names::test_each_draft_input_gets_its_own_line": _GL,
+    "test_pbr_misc::test_eon_white_furnace_reflects_all_light_at_every_roughness": _GL,
+    "test_pbr_shading::test_mixed_closures_weigh_their_responses": _GL,
+    "test_pbr_shading::test_thin_walled_surface_is_seen_straight_through": _GL,
+    "test_pbrlib_suite_parity::test_rough_transmission_never_exceeds_the_furnace_where_materialx_does": _GL,
+    "test_stride::test_cel_shading_quantizes_the_direct_light": _GL,
+    "test_stride::test_direct_light_matches_numpy": _GL,
+    "test_targets::test_cli_max_lights_and_render_lights": _GL,
+    "test_targets::test_golden_check_passes_in_every_target": _GL,
+    "test_unseen_sweep::test_a_stage_is_swept_for_generated_and_compiled": _GL,
+    "test_unseen_sweep::test_an_element_whose_materialx_shader_does_not_compile_is_not_counted": _GL,
+    "test_usd_stage::test_directory_sweeps_find_stages_not_the_layers_they_compose": _GL,
+    "test_warnings::test_batch_warns_once_and_strict_fails_the_element": _GL,
+    "test_warnings::test_golden_update_strict_refuses_an_element_with_a_slip": _GL,
+}
+
+
+def _marks_of(item):
+    module = item.module.__name__.rpartition(".")[2] if item.module else ""
+    names = set(MODULE_MARKS.get(module, ())) | set(MODULE_MARKS.get("%s::%s" % (module, item.originalname), ()))
+    for fixture in getattr(item, "fixturenames", ()):
+        names.update(FIXTURE_MARKS.get(fixture, ()))
+    return names
+
+
 def pytest_collection_modifyitems(config, items):
-    """Tests marked `corpus` skip, saying why, where ../shared is absent."""
-    if HAVE_CORPUS:
-        return
-    skip = pytest.mark.skip(reason=CORPUS_ABSENT)
+    """Marks each test with what it needs (gl, browser, window; see FIXTURE_MARKS and MODULE_MARKS); tests marked
+    `corpus` skip, saying why, where ../shared is absent."""
+    skip = None if HAVE_CORPUS else pytest.mark.skip(reason=CORPUS_ABSENT)
     for item in items:
-        if item.get_closest_marker("corpus"):
+        for name in sorted(_marks_of(item)):
+            if not item.get_closest_marker(name):
+                item.add_marker(name)
+        if skip is not None and item.get_closest_marker("corpus"):
             item.add_marker(skip)
+
+
+@pytest.fixture(scope="session")
+def _nogl_report(tmp_path_factory):
+    return str(tmp_path_factory.mktemp("nogl") / "report.txt")
+
+
+@pytest.fixture(autouse=True)
+def _gl_guard(request, _nogl_report, monkeypatch):
+    """A test not marked gl fails when it (or a Python subprocess it starts) creates a GL context or runs a
+    GLSL compiler: "test uses GL but is not marked gl"."""
+    if request.node.get_closest_marker("gl"):
+        yield
+        return
+    import nogl_guard
+
+    def refuse(what):
+        pytest.fail(nogl_guard.MESSAGE % what, pytrace=False)
+    restore = nogl_guard.install(refuse)
+    for name, value in nogl_guard.child_env_changes(_nogl_report).items():
+        monkeypatch.setenv(name, value)
+    try:
+        yield
+    finally:
+        restore()
+    if os.path.exists(_nogl_report):
+        with open(_nogl_report, encoding="utf-8") as f:
+            lines = f.read().splitlines()
+        os.remove(_nogl_report)
+        if lines:
+            pytest.fail(lines[0], pytrace=False)
 
 
 @pytest.fixture(scope="session")
