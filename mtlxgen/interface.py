@@ -156,9 +156,10 @@ PREFILTER_RECIPE = {
                 "angle)) + 1, pdf = D(h) / 4, texel solid angle 2 pi^2 cos(e) / (w h)",
     "samples": PREFILTER_SAMPLES,
     "glsl": "glsl_lib/" + PREFILTER_LIB + " (mg_env_prefilter_texel); mtlxgen.environment.prefilter_sources()",
-    "lookup": "mg_env_prefiltered_lobe: an isotropic lobe is one read at level mg_env_prefiltered_lod(alpha): alpha / "
-              "alpha_1 below alpha_1, else 1 + log2(alpha / alpha_1), clamped to the chain, along the mirror "
-              "direction pulled to the normal with roughness; an anisotropic lobe (a, b), a > b, is 8 such reads "
+    "lookup": "mg_env_prefiltered_lobe: an isotropic lobe is one read at level mg_env_prefiltered_lod(alpha) - 0.3 "
+              "(at least 0; the lod: alpha / alpha_1 below alpha_1, else 1 + log2(alpha / alpha_1), clamped to the "
+              "chain), along the mirror direction pulled to the normal with roughness; an anisotropic lobe (a, b), "
+              "a > b, is 12 such reads "
               "of roughness b about normals spread along its major axis (slopes at the quantiles of GGX's marginal "
               "slope, scaled by sqrt(a^2 - b^2)), weighted by v.h / n.h; times the split-sum albedo of "
               "glsl_lib/pbrlib/microfacet/albedo.glsl",

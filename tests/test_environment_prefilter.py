@@ -2,6 +2,7 @@
 brute-force integral of the lobe over the map, render binding the prefiltered map for prefiltered shaders (and the
 box chain for fis ones), the manifest's recipe, the viewer drawing the prefiltered variant while the camera moves
 and fis when still, and the error of the seven materials of docs/measuring.md against a 2,048-sample FIS render."""
+import functools
 import os
 
 import jsonschema
@@ -86,6 +87,7 @@ def test_prefilter_sources_for_webgl_are_es():
         environment.prefilter_sources("hlsl")
 
 
+@pytest.mark.gl                     # renders (llvmpipe)
 def test_render_binds_the_prefiltered_map_only_for_prefiltered_shaders():
     path = os.path.join(ROOT, "examples", "quick_start.mtlx")
     (fis,) = pipeline.generate(path)
@@ -117,6 +119,7 @@ SEVEN = [("enterprise/enterprise_brushed_metal.mtlx", "M_brushed"), ("enterprise
          ("quick_start.mtlx", "M_tiles")]
 
 
+@functools.lru_cache(maxsize=None)
 def seven_errors(size, reference_samples=2048):
     """{element: (error of 64-sample FIS, error of prefiltered)} against a reference_samples FIS render of the same
     shader: mean over the pixels either image covers of the max-channel sRGB difference, in 1/255."""
@@ -135,15 +138,24 @@ def seven_errors(size, reference_samples=2048):
     return out
 
 
-# issue 27's target: prefiltered no worse than 64-sample FIS over the seven materials. Not met yet (docs/measuring.md,
-# 2026-11-27: 41 against 18 in all at 96 px; the anisotropic brushed metals and rough metals lose most): strict, so
-# that meeting it shows
-@pytest.mark.xfail(strict=True, reason="issue 27 target not met: prefiltered error 2.3x 64-sample FIS (measuring.md)")
+# issue 27's target: prefiltered no worse than 64-sample FIS over the seven materials (docs/measuring.md; met since the
+# anisotropic lobes are read with taps along their major axis)
+@pytest.mark.gl                     # renders (llvmpipe)
 def test_seven_materials_prefiltered_within_fis64_error():
     errors = seven_errors(48, reference_samples=1024)
     fis = sum(e[0] for e in errors.values())
     pre = sum(e[1] for e in errors.values())
     assert pre <= fis, errors
+
+
+@pytest.mark.gl                     # renders (llvmpipe)
+def test_anisotropic_lobes_prefiltered_within_fis64_error():
+    """The two brushed metals (anisotropic GGX, read with taps along the lobe's major axis): each within its own
+    64-sample FIS error (one bent lookup: 2.4x and 2.8x it)."""
+    errors = seven_errors(48, reference_samples=1024)
+    for el in ("M_brushed", "brushed_gold"):
+        fis, pre = errors[el]
+        assert pre <= fis, (el, fis, pre)
 
 
 def test_seven_materials_prefiltered_error_is_bounded():
