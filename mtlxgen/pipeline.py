@@ -2,7 +2,7 @@
 import copy
 import os
 
-from . import document, emit, functions, glslcheck, graph, is_usd, library, nodes
+from . import document, emit, functions, glslcheck, graph, is_usd, library, nodes, passes
 from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
 from .options import GenerateOptions
 from .transparency import transparent_surface
@@ -121,17 +121,13 @@ class Session:
         or `graph` (this session's graph(name, ...), already built: not built again). The complete interface calls
         nodegraph implementations as functions (functions.py); the reduced one expands them, to fold their constants."""
         iface = interface or self.interface
-        kept = None
-        if graph is None:
+        if graph is None:                   # the build pass
             graph = self.graph(name, functions=not iface.reduced)
-        if iface.reduced:          # reduce.py: constants in the code, then fold.py computes them
-            from . import fold, reduce
-            graph, kept = reduce.reduce(graph, iface)
-            graph = fold.fold(graph)
+        ir, kept = passes.run(graph, iface)     # the later passes, in order (passes.py)
         try:
-            shader = self._emit(graph, iface)
+            shader = self._emit(ir, iface)
         except functions.Inline:            # a compile-time input connected: expanded in place instead
-            shader = self._emit(self.graph(name), iface)
+            shader = self._emit(passes.run(self.graph(name), iface)[0], iface)
         return self.finish(name, shader, iface, kept)
 
     def _emit(self, g, iface):
