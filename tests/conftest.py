@@ -63,7 +63,8 @@ def generate_switched(path, switches, **options):
 #     (glslangValidator, spirv-val, ../shared/tools/gpu_proxy); browser: Chromium or Node (the web and three
 #     pages); window: a window on a display (the viewer, on Xvfb). `pytest -m "not gl"` is the fast subset.
 # A test gets its markers from the fixtures it uses (directly or through other fixtures), else from its module
-# below; a test not marked gl that creates a context or runs a compiler fails, saying so (nogl_guard.py).
+# below; a test not marked gl that creates a context or runs a compiler fails, saying so, and one not marked
+# browser that starts Chromium or Node (nogl_guard.py).
 
 FIXTURE_MARKS = {
     "renderer": ("gl",), "harness": ("gl",), "lit_renderer": ("gl",), "stage_renderer": ("gl",),
@@ -72,7 +73,8 @@ FIXTURE_MARKS = {
 }
 # The rest, by module ("test_x": every test in it) or by test ("test_x::test_name", each parametrization): what
 # draws through a helper, a module's own Renderer or OffscreenWindow, or a CLI subprocess (render, batch, golden,
-# view), or runs glslangValidator. A window (Xvfb) is a GL context too.
+# view), or runs glslangValidator; Chromium or Node started by the test itself. A window (Xvfb) is a GL context
+# too, and so is a page Chromium draws with WebGL; Node alone (checking the three module) is browser only.
 _GL, _WINDOW, _BROWSER = ("gl",), ("gl", "window"), ("gl", "browser")
 MODULE_MARKS = {
     "test_bench_gpu_compilers": _GL, "test_cluster": _GL, "test_golden": _GL, "test_glsl_validity": _GL,
@@ -80,27 +82,48 @@ MODULE_MARKS = {
     "test_view_progressive": _GL,
     "test_view": _WINDOW, "test_view_reload": _WINDOW, "test_view_isolated": _WINDOW,
     "test_web": _BROWSER, "test_three": _BROWSER,
+    "test_api::test_a_missing_dependency_is_one_line_naming_the_package": _GL,
+    "test_api::test_render_a_shader_and_a_source_and_a_session": _GL,
+    "test_api::test_the_host_example_draws_what_render_draws": _GL,
+    "test_cli::test_good_options_at_their_limits_are_accepted": _GL,
+    "test_cli::test_render_writes_png_and_exr": _GL,
     "test_closure_weights::test_rough_white_mirror_keeps_its_energy_where_materialx_loses_some": _GL,
+    "test_edf_vdf::test_measured_edf_with_a_broken_ies_file_is_one_line_at_its_input": _GL,
     "test_enterprise_pbr::test_attenuation_darkens_solid_glass_by_beer_lambert": _GL,
     "test_environment_prefilter::test_levels_hold_the_ggx_lobe": _GL,
+    "test_environment_prefilter::test_render_binds_the_prefiltered_map_only_for_prefiltered_shaders": _GL,
     "test_environment_prefilter::test_seven_materials_prefiltered_error_is_bounded": _GL,
     "test_environment_prefilter::test_viewer_draws_prefiltered_while_moving_and_fis_when_still": _GL,
+    "test_escaping::test_three_module_syntax_and_import_in_node": ("browser",),
+    "test_escaping::test_usd_colorspace_metadata_is_data_in_the_module": ("browser",),
+    "test_escaping::test_web_page_loads_in_chromium_without_running_document_text": _BROWSER,
     "test_file_access::test_16k_texture_and_environment_render_in_bounded_memory": _GL,
     "test_file_access::test_64_channel_texture_decodes_four_channels": _GL,
     "test_file_access::test_renderer_keeps_a_texture_error_until_the_file_is_forgotten": _GL,
+    "test_file_access::test_sparse_files_are_refused_on_their_size": _GL,
     "test_file_access::test_text_file_as_a_stage_texture_names_the_attribute": _GL,
+    "test_file_access::test_truncated_png_is_one_line_without_libpng_output": _GL,
     "test_folders_outputs::test_an_internal_error_in_one_batch_document_is_one_line_naming_it": _GL,
+    "test_folders_outputs::test_batch_never_writes_one_documents_image_over_anothers": _GL,
     "test_folders_outputs::test_batch_reports_each_unreadable_entry_and_draws_the_rest": _GL,
     "test_folders_outputs::test_dangling_links_and_loops_alone_are_reported_not_a_crash": _GL,
     "test_folders_outputs::test_empty_member_default_reads_as_the_member_types_zero": _GL,
+    "test_folders_outputs::test_empty_struct_default_of_a_nodedef_reads_as_no_value_with_a_warning": _GL,
+    "test_folders_outputs::test_glslvalidate_replaces_a_symlink_at_its_stage_file": _GL,
     "test_folders_outputs::test_golden_outputs_replace_symlinks_and_the_index_keeps_ordinary_modes": _GL,
+    "test_folders_outputs::test_golden_outputs_the_file_system_refuses_are_named_not_their_temporary_files": _GL,
     "test_folders_outputs::test_golden_update_and_check_report_unreadable_entries_and_fail": _GL,
     "test_folders_outputs::test_screenshot_key_in_the_window_says_why_nothing_is_written": _GL,
+    "test_folders_outputs::test_view_screenshot_of_a_document_that_draws_nothing_is_not_written": _GL,
     "test_hostile_sweep::test_batch_of_a_file_name_that_is_not_utf8": _GL,
     "test_hostile_sweep::test_capture_window_to_a_name_no_image_format_takes_is_one_line": _GL,
+    "test_hostile_sweep::test_environment_of_non_finite_or_huge_values_prints_no_numpy_warnings": _GL,
+    "test_hostile_sweep::test_golden_image_linked_from_outside_the_golden_folder_is_not_copied": _GL,
+    "test_hostile_sweep::test_golden_index_entry_outside_the_shape_update_writes_is_one_line": _GL,
     "test_hostile_sweep::test_golden_of_a_file_name_with_a_line_break_is_checked": _GL,
     "test_hostile_sweep::test_golden_update_check_and_report_of_a_file_name_that_is_not_utf8": _GL,
     "test_hostile_sweep::test_images_under_a_folder_name_that_is_not_utf8_are_one_line": _GL,
+    "test_hostile_sweep::test_light_rig_input_of_another_type_is_one_line_at_the_input": _GL,
     "test_hostile_sweep::test_results_json_with_a_lone_surrogate_is_reported": _GL,
     "test_hostile_sweep::test_two_channel_environment_is_read_as_grey": _GL,
     "test_hostile_sweep::test_usdz_texture_climbing_out_of_its_package_is_not_read": _GL,
@@ -110,19 +133,27 @@ MODULE_MARKS = {
     "test_missing_textures::test_commands_that_draw_report_it": _GL,
     "test_missing_textures::test_view_says_it_and_draws_the_default": _GL,
     "test_openpbr_names::test_each_draft_input_gets_its_own_line": _GL,
+    "test_packaging::test_readme_quick_start_runs_from_the_wheel": _GL,
+    "test_pbr_misc::test_a_directional_light_on_a_lambert_sphere_gives_n_dot_l_albedo_over_pi": _GL,
     "test_pbr_misc::test_eon_white_furnace_reflects_all_light_at_every_roughness": _GL,
     "test_pbr_shading::test_mixed_closures_weigh_their_responses": _GL,
     "test_pbr_shading::test_thin_walled_surface_is_seen_straight_through": _GL,
     "test_pbrlib_suite_parity::test_rough_transmission_never_exceeds_the_furnace_where_materialx_does": _GL,
+    "test_reduced_interface::test_reduced_shaders_paste_library_code_without_comments": _GL,
+    "test_reduced_interface::test_render_batch_golden_and_view_take_the_interface": _GL,
+    "test_security::test_rendering_a_texture_from_dev_zero_fails_with_one_line": _GL,
     "test_stride::test_cel_shading_quantizes_the_direct_light": _GL,
     "test_stride::test_direct_light_matches_numpy": _GL,
     "test_targets::test_cli_max_lights_and_render_lights": _GL,
     "test_targets::test_golden_check_passes_in_every_target": _GL,
     "test_unseen_sweep::test_a_stage_is_swept_for_generated_and_compiled": _GL,
     "test_unseen_sweep::test_an_element_whose_materialx_shader_does_not_compile_is_not_counted": _GL,
+    "test_usd_stage::test_cli_options_and_batch": _GL,
     "test_usd_stage::test_directory_sweeps_find_stages_not_the_layers_they_compose": _GL,
+    "test_usd_stage::test_stage_shaders_are_valid_to_the_reference_compiler": _GL,
     "test_warnings::test_batch_warns_once_and_strict_fails_the_element": _GL,
     "test_warnings::test_golden_update_strict_refuses_an_element_with_a_slip": _GL,
+    "test_warnings::test_info_and_render_warn_too": _GL,
 }
 
 
@@ -154,16 +185,17 @@ def _nogl_report(tmp_path_factory):
 @pytest.fixture(autouse=True)
 def _gl_guard(request, _nogl_report, monkeypatch):
     """A test not marked gl fails when it (or a Python subprocess it starts) creates a GL context or runs a
-    GLSL compiler: "test uses GL but is not marked gl"."""
-    if request.node.get_closest_marker("gl"):
+    GLSL compiler: "test uses GL but is not marked gl"; one not marked browser, when it starts Chromium or Node."""
+    kinds = tuple(kind for kind in ("gl", "browser") if not request.node.get_closest_marker(kind))
+    if not kinds:
         yield
         return
     import nogl_guard
 
-    def refuse(what):
-        pytest.fail(nogl_guard.MESSAGE % what, pytrace=False)
-    restore = nogl_guard.install(refuse)
-    for name, value in nogl_guard.child_env_changes(_nogl_report).items():
+    def refuse(what, kind):
+        pytest.fail(nogl_guard.MESSAGES[kind] % what, pytrace=False)
+    restore = nogl_guard.install(refuse, kinds)
+    for name, value in nogl_guard.child_env_changes(_nogl_report, kinds).items():
         monkeypatch.setenv(name, value)
     try:
         yield

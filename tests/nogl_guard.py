@@ -19,23 +19,38 @@ import subprocess
 import sys
 
 ENV_REPORT = "MTLXGEN_TEST_NOGL_REPORT"
+ENV_KINDS = "MTLXGEN_TEST_GUARD"            # which guards a subprocess installs: "gl", "browser" or "gl,browser"
 SITE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_nogl_site")
-MESSAGE = "test uses GL but is not marked gl: %s (mark it gl: the fixture or module table in tests/conftest.py)"
+MESSAGES = {
+    "gl": "test uses GL but is not marked gl: %s (mark it gl: the fixture or module table in tests/conftest.py)",
+    "browser": "test uses a browser but is not marked browser: %s (mark it browser: the fixture or module table "
+               "in tests/conftest.py)"}
+MESSAGE = MESSAGES["gl"]
 COMPILERS = ("glslangValidator", "spirv-val", "spirv-opt", "spirv-link")
+BROWSERS = ("chromium", "chromium-browser", "chrome", "google-chrome", "headless_shell", "node", "npm", "npx")
 CONTEXT_FACTORIES = ("create_standalone_context", "create_context", "init_context")
 
 
-def compiler_in(args):
-    """The GLSL compiler a subprocess command runs, or None."""
+def _argv0(args):
     if isinstance(args, (str, bytes, os.PathLike)):
         argv0 = os.fsdecode(args).split()[0] if os.fsdecode(args).split() else ""
     else:
         args = list(args)
         argv0 = os.fsdecode(args[0]) if args else ""
+    return argv0
+
+
+def compiler_in(args):
+    """The GLSL compiler a subprocess command runs, or None."""
+    argv0 = _argv0(args)
     name = os.path.basename(argv0)
-    if name in COMPILERS or (os.sep + "gpu_proxy" + os.sep) in argv0:
-        return name
-    return None
+    return name if name in COMPILERS or (os.sep + "gpu_proxy" + os.sep) in argv0 else None
+
+
+def browser_in(args):
+    """The browser or Node a subprocess command runs (playwright's driver is a node), or None."""
+    name = os.path.basename(_argv0(args))
+    return name if name in BROWSERS else None
 
 
 def guard_contexts(moderngl, refuse, undo):
@@ -46,27 +61,32 @@ def guard_contexts(moderngl, refuse, undo):
             setattr(moderngl, name, lambda *a, _name=name, **k: refuse("moderngl.%s()" % _name))
 
 
-def guard_compilers(refuse, undo):
-    """subprocess.Popen (under run, check_output, call alike) calls refuse(what) for a GLSL compiler."""
+def guard_programs(refuse, undo, kinds=("gl",)):
+    """subprocess.Popen (under run, check_output, call and asyncio alike) calls refuse(what, kind) for a GLSL
+    compiler (kind "gl") or a browser or Node (kind "browser"), for the kinds given."""
     original_popen = subprocess.Popen
+    finders = [(kind, find) for kind, find in (("gl", compiler_in), ("browser", browser_in)) if kind in kinds]
 
     class GuardedPopen(original_popen):
         def __init__(self, args, *a, **k):
-            compiler = compiler_in(args)
-            if compiler is not None:
-                refuse("ran %s" % compiler)
+            for kind, find in finders:
+                program = find(args)
+                if program is not None:
+                    refuse("ran %s" % program, kind)
             super().__init__(args, *a, **k)
 
     undo.append((subprocess, "Popen", original_popen))
     subprocess.Popen = GuardedPopen
 
 
-def install(refuse):
-    """Both guards in this process; returns a function undoing them."""
-    import moderngl
+def install(refuse, kinds=("gl",)):
+    """The guards of `kinds` ("gl": contexts and compilers; "browser": Chromium and Node) in this process;
+    refuse(what, kind) must raise. Returns a function undoing them."""
     undo = []
-    guard_contexts(moderngl, refuse, undo)
-    guard_compilers(refuse, undo)
+    if "gl" in kinds:
+        import moderngl
+        guard_contexts(moderngl, lambda what: refuse(what, "gl"), undo)
+    guard_programs(refuse, undo, kinds)
 
     def restore():
         for owner, name, original in reversed(undo):
@@ -74,15 +94,16 @@ def install(refuse):
     return restore
 
 
-def child_env_changes(report):
-    """The environment variables that carry the guard into Python subprocesses."""
+def child_env_changes(report, kinds=("gl",)):
+    """The environment variables that carry the guards into Python subprocesses."""
     path = os.environ.get("PYTHONPATH")
-    return {"PYTHONPATH": SITE + (os.pathsep + path if path else ""), ENV_REPORT: report}
+    return {"PYTHONPATH": SITE + (os.pathsep + path if path else ""), ENV_REPORT: report,
+            ENV_KINDS: ",".join(kinds)}
 
 
-def child_refuse(what):
+def child_refuse(what, kind="gl"):
     """The guard's refusal in a subprocess: the message on stderr and in the report file, exit 97."""
-    line = MESSAGE % ("subprocess %s %s" % (os.path.basename(sys.argv[0] or sys.executable), what))
+    line = MESSAGES[kind] % ("subprocess %s %s" % (os.path.basename(sys.argv[0] or sys.executable), what))
     report = os.environ.get(ENV_REPORT)
     if report:
         with open(report, "a", encoding="utf-8") as f:

@@ -18,8 +18,8 @@ class Refused(Exception):
     pass
 
 
-def _refuse(what):
-    raise Refused(what)
+def _refuse(what, kind="gl"):
+    raise Refused("%s: %s" % (kind, what))
 
 
 def test_this_module_is_not_marked_gl(request):
@@ -61,6 +61,26 @@ def test_compiler_runs_are_told_from_other_programs(args, refused):
     assert nogl_guard.compiler_in(args) == refused
 
 
+@pytest.mark.parametrize("args, refused", [
+    (["/usr/bin/chromium", "--headless"], "chromium"),
+    (["node", "--check", "m.js"], "node"),
+    (["/x/site-packages/playwright/driver/node", "cli.js"], "node"),
+    (["nodejs-tool"], None),
+    (["glslangValidator", "a.frag"], None),
+])
+def test_browser_runs_are_told_from_other_programs(args, refused):
+    assert nogl_guard.browser_in(args) == refused
+
+
+def test_browser_runs_are_refused_only_where_asked():
+    restore = nogl_guard.install(_refuse, kinds=("browser",))
+    try:
+        with pytest.raises(Refused, match="browser: ran node"):
+            subprocess.run(["node", "--version"], capture_output=True)
+    finally:
+        restore()
+
+
 def test_a_compiler_run_through_subprocess_is_refused():
     restore = nogl_guard.install(_refuse)
     try:
@@ -76,18 +96,20 @@ def test_a_compiler_run_through_subprocess_is_refused():
     ("import moderngl; moderngl.create_standalone_context()", "moderngl.create_standalone_context()"),
     ("from mtlxgen import glcontext; glcontext.create_context()", "moderngl.create_standalone_context()"),
     ("import subprocess; subprocess.run(['spirv-val', 'x.spv'])", "ran spirv-val"),
+    ("import subprocess; subprocess.run(['chromium', '--version'])", "not marked browser: subprocess -c ran chromium"),
 ])
 def test_a_python_subprocess_reports_its_gl_use(tmp_path, code, what):
     """The guard reaches subprocesses through PYTHONPATH; the report file tells the parent even where the
     subprocess's exit status was expected to be a failure."""
     report = str(tmp_path / "report.txt")
-    env = dict(os.environ, **nogl_guard.child_env_changes(report))
+    env = dict(os.environ, **nogl_guard.child_env_changes(report, ("gl", "browser")))
     env["PYTHONPATH"] = os.pathsep.join([env["PYTHONPATH"], os.path.dirname(TESTS)])
     r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
     assert r.returncode == 97, r.stderr
     with open(report, encoding="utf-8") as f:
         lines = f.read().splitlines()
-    assert len(lines) == 1 and "test uses GL but is not marked gl" in lines[0] and what in lines[0], lines
+    assert len(lines) == 1 and what in lines[0], lines
+    assert ("not marked browser" if "chromium" in code else "test uses GL but is not marked gl") in lines[0]
     assert lines[0] in r.stderr
 
 
@@ -119,9 +141,10 @@ def test_every_table_entry_names_a_test_that_exists():
     assert not stale, "MODULE_MARKS entries naming no test: %s" % stale
 
 
-def test_window_and_browser_imply_gl():
+def test_a_window_implies_gl():
+    """A window is a GL context: a window test must leave the fast subset `-m "not gl"` too."""
     for key, marks in list(conftest.MODULE_MARKS.items()) + list(conftest.FIXTURE_MARKS.items()):
-        if "window" in marks or "browser" in marks:
+        if "window" in marks:
             assert "gl" in marks, key
 
 

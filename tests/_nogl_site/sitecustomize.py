@@ -1,5 +1,5 @@
 """Loaded by Python subprocesses of tests not marked `gl` (tests/nogl_guard.py puts this folder on PYTHONPATH):
-guards GLSL compiler runs at once and moderngl's context factories once moderngl is imported (importing it here
+guards GLSL compiler (and, for tests not marked browser, browser) runs at once and moderngl's context factories once moderngl is imported (importing it here
 would slow every subprocess). Does nothing unless MTLXGEN_TEST_NOGL_REPORT is set."""
 import os
 
@@ -12,7 +12,10 @@ def _install():
     spec = importlib.util.spec_from_file_location("_mtlxgen_nogl_guard", os.path.join(tests, "nogl_guard.py"))
     guard = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(guard)
-    guard.guard_compilers(guard.child_refuse, [])
+    kinds = os.environ.get(guard.ENV_KINDS, "gl").split(",")
+    guard.guard_programs(guard.child_refuse, [], kinds)
+    if "gl" not in kinds:
+        return
 
     class AfterModernglImport(importlib.abc.MetaPathFinder):
         def find_spec(self, fullname, path=None, target=None):
@@ -26,7 +29,7 @@ def _install():
 
             def exec_module(module):
                 execute(module)
-                guard.guard_contexts(module, guard.child_refuse, [])
+                guard.guard_contexts(module, guard.child_refuse, [])      # (kind "gl" by default)
             spec.loader.exec_module = exec_module
             return spec
 
