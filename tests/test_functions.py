@@ -88,15 +88,20 @@ def test_an_implementation_is_one_function_called_per_instance(tmp_path):
 def test_emitted_once_per_library_and_settings(tmp_path):
     path = write_doc(tmp_path, TWO_CHECKERS)
     session = pipeline.Session(path)
-    session.shader("M")
-    families = [f for f in session.library.functions.values() if f.nodedef.name == "ND_standard_surface_surfaceshader"]
-    assert len(families) == 1
-    codes = [e[1] for e in families[0].variants.values() if e[0] == "code"]
-    assert len(codes) == 1
-    session.shader("M")
-    assert [e[1] for e in families[0].variants.values() if e[0] == "code"] == codes     # reused, not emitted again
+    first = session.shader("M")
+    family = next(n.function for n in session.graph("M", functions=True).nodes if n.category == "standard_surface")
+    assert family in session.library.functions.values()       # kept by the library
+
+    def codes(target):
+        return {k: e[1] for k, e in family.variants.items() if e[0] == "code" and k[0][1] == target}
+
+    glsl = codes("glsl")
+    assert len(glsl) >= 1 and all(c.name == "mg_ND_standard_surface_surfaceshader" for c in glsl.values())
+    again = session.shader("M")
+    assert codes("glsl") == glsl and all(codes("glsl")[k] is c for k, c in glsl.items())   # reused, not emitted again
+    assert again.fragment == first.fragment
     pipeline.Session(path, target="essl").shader("M")
-    assert len([e for e in families[0].variants.values() if e[0] == "code"]) == 2      # per settings
+    assert codes("essl") and codes("glsl") == glsl                                       # one more per settings
 
 
 def test_compile_time_inputs_specialise_the_function(tmp_path):
