@@ -157,6 +157,19 @@ MODULE_MARKS = {
 }
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_cmdline_main(config):
+    """The fast subset (`-m "not gl"`, no `-n` given) runs on every core with pytest-xdist where it is installed:
+    about 1,000 tests of generation, 114 s in one process on 2 cores, 57 s on both. `-n 0` or `-p no:xdist`
+    keeps one process; a worker, --collect-only and --pdb are left alone."""
+    option = config.option
+    if (hasattr(config, "workerinput") or not config.pluginmanager.hasplugin("xdist")
+            or getattr(option, "numprocesses", 0) is not None or option.collectonly or option.usepdb
+            or "not gl" not in " ".join((option.markexpr or "").split())):
+        return
+    option.numprocesses = "auto"
+
+
 def _marks_of(item):
     module = item.module.__name__.rpartition(".")[2] if item.module else ""
     names = set(MODULE_MARKS.get(module, ())) | set(MODULE_MARKS.get("%s::%s" % (module, item.originalname), ()))
