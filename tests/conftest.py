@@ -127,6 +127,7 @@ MODULE_MARKS = {
     "test_hostile_sweep::test_results_json_with_a_lone_surrogate_is_reported": _GL,
     "test_hostile_sweep::test_two_channel_environment_is_read_as_grey": _GL,
     "test_hostile_sweep::test_usdz_texture_climbing_out_of_its_package_is_not_read": _GL,
+    "test_manifest_schema::test_every_manifest_of_the_examples_and_test_data_validates": _GL,
     "test_metal_random_walk::test_rough_gold_in_a_white_furnace_follows_the_random_walk": _GL,
     "test_missing_textures::test_a_texture_that_does_not_decode_is_one_line_at_its_input": _GL,
     "test_missing_textures::test_batch_and_golden_report_it": _GL,
@@ -142,6 +143,8 @@ MODULE_MARKS = {
     "test_reduced_interface::test_reduced_shaders_paste_library_code_without_comments": _GL,
     "test_reduced_interface::test_render_batch_golden_and_view_take_the_interface": _GL,
     "test_security::test_rendering_a_texture_from_dev_zero_fails_with_one_line": _GL,
+    "test_security::test_implementation_file_from_the_search_path_is_allowed": _GL,
+    "test_security::test_implementation_file_in_a_subfolder_of_the_document_is_pasted_into_the_shader": _GL,
     "test_stride::test_cel_shading_quantizes_the_direct_light": _GL,
     "test_stride::test_direct_light_matches_numpy": _GL,
     "test_targets::test_cli_max_lights_and_render_lights": _GL,
@@ -157,15 +160,20 @@ MODULE_MARKS = {
 }
 
 
+def _fast_subset(config):
+    """Whether this run is the fast subset: its -m expression leaves gl out."""
+    return "not gl" in " ".join((config.option.markexpr or "").split())
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_cmdline_main(config):
     """The fast subset (`-m "not gl"`, no `-n` given) runs on every core with pytest-xdist where it is installed:
-    about 1,000 tests of generation, 114 s in one process on 2 cores, 57 s on both. `-n 0` or `-p no:xdist`
+    about 1,000 tests of generation, 114 s in one process on 2 cores, 58 s on both. `-n 0` or `-p no:xdist`
     keeps one process; a worker, --collect-only and --pdb are left alone."""
     option = config.option
     if (hasattr(config, "workerinput") or not config.pluginmanager.hasplugin("xdist")
             or getattr(option, "numprocesses", 0) is not None or option.collectonly or option.usepdb
-            or "not gl" not in " ".join((option.markexpr or "").split())):
+            or not _fast_subset(config)):
         return
     option.numprocesses = "auto"
 
@@ -180,8 +188,15 @@ def _marks_of(item):
 
 def pytest_collection_modifyitems(config, items):
     """Marks each test with what it needs (gl, browser, window; see FIXTURE_MARKS and MODULE_MARKS); tests marked
-    `corpus` skip, saying why, where ../shared is absent."""
+    `corpus` skip, saying why, where ../shared is absent, and are left out of the fast subset where it is not."""
     skip = None if HAVE_CORPUS else pytest.mark.skip(reason=CORPUS_ABSENT)
+    if HAVE_CORPUS and _fast_subset(config) and "corpus" not in (config.option.markexpr or ""):
+        # the fast subset leaves the corpus sweeps out here as on a clone (CI runs them alone, -m corpus);
+        # `-m "not gl and corpus"` runs them without GL
+        sweeps = [item for item in items if item.get_closest_marker("corpus")]
+        if sweeps:
+            config.hook.pytest_deselected(items=sweeps)
+            items[:] = [item for item in items if not item.get_closest_marker("corpus")]
     for item in items:
         for name in sorted(_marks_of(item)):
             if not item.get_closest_marker(name):
@@ -208,6 +223,10 @@ def _gl_guard(request, _nogl_report, monkeypatch):
     def refuse(what, kind):
         pytest.fail(nogl_guard.MESSAGES[kind] % what, pytrace=False)
     restore = nogl_guard.install(refuse, kinds)
+    if "gl" in kinds and "mtlxgen.glslcheck" in sys.modules:
+        # glslcheck keeps its compile context, or its failure to make one, per process: each test asks afresh,
+        # so a test generating a document's own GLSL meets the guard whatever ran before it
+        monkeypatch.setattr(sys.modules["mtlxgen.glslcheck"], "_WORKER", {})
     for name, value in nogl_guard.child_env_changes(_nogl_report, kinds).items():
         monkeypatch.setenv(name, value)
     try:
