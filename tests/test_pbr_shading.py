@@ -157,4 +157,8 @@ def test_open_pbr_thin_walled_reaches_the_surface(tmp_path):
         frag = pipeline.generate(write_doc(tmp_path, body % flag, name=flag + ".mtlx"))[0].fragment
         # the public uniform of the material's input decides the surface's transmission
         assert "uniform bool s_geometry_thin_walled = %s;" % flag in frag
-        assert "bool mg_thin_walled = s_geometry_thin_walled;" in frag
+        # (through open_pbr_surface's function: the uniform passed as its parameter, the parameter read by the surface)
+        call = re.search(r"\n    mg_ND_open_pbr_surface_surfaceshader\(([^;]*)\);", frag).group(1).split(", ")
+        signature = re.search(r"void mg_ND_open_pbr_surface_surfaceshader\(([^)]*)\)", frag).group(1).split(", ")
+        param = signature[call.index("s_geometry_thin_walled")].split()[-1]
+        assert "bool mg_thin_walled = %s;" % param in frag
