@@ -2,7 +2,7 @@
 """Thin entry point: `python cli.py generate FILE -o DIR` (same as the installed `mtlxgen`)."""
 import sys
 
-from mtlxgen.cli import main
+from mtlxgen.apps.cli import main
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -21,7 +21,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "tools"))
 
 
 def jobs_of(paths, size):
-    from mtlxgen import batch
+    from mtlxgen.apps import batch
     return [batch.Job(p, (), batch.RenderSettings(size=size)) for p in paths]
 
 
@@ -44,7 +44,7 @@ def main(argv=None):
     import psutil
 
     from make_library import make_library
-    from mtlxgen import batch, cluster
+    from mtlxgen.apps import batch, cluster
 
     print("load average before: %.2f %.2f %.2f; %d cores" % (os.getloadavg() + (os.cpu_count(),)))
     tmp = tempfile.mkdtemp(prefix="bench_cluster_")

@@ -18,9 +18,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 from mtlxgen import pipeline  # noqa: E402
-from mtlxgen.diagnostics import MtlxError  # noqa: E402
-from mtlxgen.reference import MaterialXReference  # noqa: E402
-from mtlxgen.render import Renderer  # noqa: E402
+from mtlxgen.base.diagnostics import MtlxError  # noqa: E402
+from mtlxgen.apps.reference import MaterialXReference  # noqa: E402
+from mtlxgen.draw.renderer import Renderer  # noqa: E402
 
 CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
 if not os.path.isdir(CORPUS):

@@ -21,7 +21,8 @@ def main(argv=None):
     ap.add_argument("--runs", type=int, default=5)
     args = ap.parse_args(argv)
     import numpy as np
-    from mtlxgen import environment, pipeline, render
+    from mtlxgen.draw import environment, renderer as render
+    from mtlxgen import pipeline
     from test_environment_prefilter import SEVEN
 
     def median_draw(r, prepared):

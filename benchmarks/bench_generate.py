@@ -31,8 +31,9 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from mtlxgen import library, pipeline  # noqa: E402
-from mtlxgen.diagnostics import MtlxError  # noqa: E402
+from mtlxgen.read import library
+from mtlxgen import pipeline  # noqa: E402
+from mtlxgen.base.diagnostics import MtlxError  # noqa: E402
 
 CORPUS = os.environ.get("MTLXGEN_CORPUS") or os.path.join(ROOT, "..", "shared", "corpus", "materialx")
 if not os.path.isdir(CORPUS):

@@ -207,7 +207,7 @@ def main():
         return 1
     modes = args.modes.split(",")
     from bench_shaders import CORPUS, EXAMPLES
-    from mtlxgen.reference import MaterialXReference, ReferenceUnavailable
+    from mtlxgen.apps.reference import MaterialXReference, ReferenceUnavailable
     try:
         ref = MaterialXReference([CORPUS], color_management=True)
     except ReferenceUnavailable as e:

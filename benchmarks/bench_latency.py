@@ -48,9 +48,10 @@ os.environ.setdefault("MESA_SHADER_CACHE_DISABLE", "true")     # before any GL c
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from mtlxgen import emit, view  # noqa: E402
-from mtlxgen.diagnostics import Loc, MtlxError  # noqa: E402
-from mtlxgen.view import Generated, GlfwWindow, OffscreenWindow, OurGenerator, Viewer  # noqa: E402
+from mtlxgen.emit import emitter as emit
+from mtlxgen.apps import view  # noqa: E402
+from mtlxgen.base.diagnostics import Loc, MtlxError  # noqa: E402
+from mtlxgen.apps.view import Generated, GlfwWindow, OffscreenWindow, OurGenerator, Viewer  # noqa: E402
 
 DOC = """<?xml version="1.0"?>
 <materialx version="1.39">
@@ -76,7 +77,7 @@ class MaterialXGenerator:
     """MaterialX's GenGlsl (the `materialx` wheel) behind the viewer's generator interface."""
 
     def __init__(self):
-        from mtlxgen.reference import MaterialXReference
+        from mtlxgen.apps.reference import MaterialXReference
         self.ref = MaterialXReference()
 
     def open(self, path, environment):

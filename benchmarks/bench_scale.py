@@ -3,7 +3,7 @@
 
 usage: bench_scale.py [--sizes 100,1000,10000,100000] [--shapes chain,fan_in,fan_out] [--timeout S] [--repeat N]
 
-Shapes of N float nodes (tests/test_generate_scale.py builds the same):
+Shapes of N float nodes (tests/graph/test_generate_scale.py builds the same):
   chain    n_i = add(n_{i-1}, 0.001)
   fan_in   N/2 leaves summed by a balanced add tree (many nodes feeding one)
   fan_out  one node read by N/2 multiplies, their results summed by an add tree (one node read by many)
@@ -28,7 +28,8 @@ sys.path.insert(0, os.path.join(ROOT, "tests"))
 OURS = r"""
 import json, sys, time
 sys.path.insert(0, %r)
-from mtlxgen import library, pipeline
+from mtlxgen.read import library
+from mtlxgen import pipeline
 library.load_library()
 t = time.perf_counter()
 shader, = pipeline.generate(sys.argv[1])

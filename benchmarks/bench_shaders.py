@@ -26,7 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 from mtlxgen import pipeline  # noqa: E402
-from mtlxgen.reference import MaterialXReference  # noqa: E402
+from mtlxgen.apps.reference import MaterialXReference  # noqa: E402
 
 SHARED_TOOLS = os.path.join(ROOT, "..", "shared", "tools")
 CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
@@ -51,7 +51,7 @@ class Harness:
             self.render = self.impl.render
             self.gl_renderer = self.impl.ctx.info.get("GL_RENDERER", "?")
         else:
-            from mtlxgen.render import Renderer
+            from mtlxgen.draw.renderer import Renderer
             self.impl, self.name = Renderer.scoreboard(size=256), "mtlxgen Renderer.scoreboard()"
             self.render = lambda vs, fs, tex: self.impl.render_timed(vs, fs, None, tex)
             self.gl_renderer = self.impl.ctx.info.get("GL_RENDERER", "?")

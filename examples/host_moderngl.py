@@ -6,7 +6,7 @@
 
 The document goes through mtlxgen's API (mtlxgen.generate); the environment through mtlxgen.environment. All the
 rest is this file's own GL: the mesh, the camera, the textures, and every uniform and attribute it binds, found by
-name in the shader's manifest (docs/interface.md). What it draws equals `mtlxgen render` (tests/test_api.py).
+name in the shader's manifest (docs/interface.md). What it draws equals `mtlxgen render` (tests/top/test_api.py).
 """
 import argparse
 import math
@@ -16,7 +16,7 @@ import moderngl
 import numpy as np
 
 import mtlxgen
-from mtlxgen.environment import mip_chain, prepare
+from mtlxgen.draw.environment import mip_chain, prepare
 
 
 def sphere(n_lon=128, n_lat=64):
@@ -122,7 +122,7 @@ def main():
         if args.out.endswith(".npy"):
             np.save(args.out, img)
         else:
-            from mtlxgen.images import write_image
+            from mtlxgen.base.images import write_image
             write_image(args.out, img)
         return
     import glfw
@@ -134,7 +134,7 @@ def main():
     glfw.make_context_current(window)
     ctx = moderngl.create_context()
     img = draw(ctx, shader, args.size, args.env)            # drawn once (the scene does not move), linear
-    from mtlxgen.images import to_srgb8
+    from mtlxgen.base.images import to_srgb8
     shown = ctx.framebuffer([ctx.texture((args.size, args.size), 4, to_srgb8(img)[::-1].tobytes())])
     while not glfw.window_should_close(window):
         ctx.copy_framebuffer(ctx.screen, shown)

@@ -1,69 +1,45 @@
 """mtlxgen: MaterialX documents to GLSL shaders.
 
-The pipeline, one module a stage, plain data between them:
+Subpackages by stage, each importing only itself and the stages below (docs/architecture.md):
 
-    xmlreader  .mtlx text         -> element tree with file/line      (xml + xi:include)
-    document   element tree       -> Document of typed dataclasses    (values parsed, prefixes applied)
-    library    data libraries     -> Library: nodedefs indexed by category and signature
-    graph      Document + Library -> Graph: resolved, type-checked, flattened, ordered nodes
-                                     (graphtypes: the Graph's data and naming rules; the target's
-                                     graph.BuildRules handed in by pipeline: nodes.RULES, nodes/usd.SeedRules)
-    emit       Graph              -> Shader: vertex and fragment GLSL plus interface manifest
-                                     (closureplan: when closures are needed; template: inline templates;
-                                     stagewriter: main's lines; nodes/: the node table and pure handlers)
-    render     Shader             -> linear RGBA pixels (moderngl, headless)
-
-    view       a document, live   -> a window redrawn as the files change (render's drawing path, hot reload,
-                                     progressive sampling, property panel: geometry, docedit, viewpanel)
+    base     the shared vocabulary: problems with FILE:LINE, file rules, MaterialX types, GLSL names, images
+    read     .mtlx documents (xi:include, older versions upgraded), USD stages, the data libraries
+    graph    the typed graph (the IR) and its build pass; nodegraph implementations as functions
+    nodes    node implementations as data: a GLSL template and a folding evaluator per category
+    passes   the passes after build, in order: reduce, fold, closures
+    emit     GLSL: the vertex and fragment stages, functions, the manifest
+    draw     pictures: the headless renderer, environment and lights
+    pipeline, options, api
+             one document through the stages; every generation setting in one object; the Python API
+    apps     the command line, batch and golden, the viewer, WebGL and three.js, tools for tests
 
 The public API (api.py; __all__ below): generate, render, Session, Shader, DocumentError, DocumentWarning,
-Options; environment (environment.py) prepares u_envRadiance and u_envIrradiance for any GL host.
+Options; environment (draw/environment.py) prepares u_envRadiance and u_envIrradiance for any GL host.
 docs/interface.md describes the shaders' application interface and the manifest.
 """
-import sys
 
 __all__ = ["generate", "render", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
            "Problem", "environment", "is_usd", "__version__"]
 
 # The public API (api.py) is imported on first use: `import mtlxgen` stays cheap for mtlxgen.is_usd's callers and
 # the command line's start.
-# mtlxgen.render is the renderer's module (render.py), made callable: mtlxgen.render(shader_or_source, ...) is
-# api.render (a function of that name would be replaced by the module as soon as anything imports it).
-_API = frozenset(("generate", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
+_API = frozenset(("generate", "render", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
                   "Problem"))
 
 
 def __getattr__(name):
     if name in _API:
-        from . import api
+        from mtlxgen import api
         value = getattr(api, name)
-    elif name in ("environment", "render"):
-        # `from . import render` would ask this function again; importing a name from the module imports it, and
-        # the import system sets it here
-        if name == "render":
-            from .render import Renderer  # noqa: F401
-        else:
-            from .environment import prepare  # noqa: F401
-        value = sys.modules[__name__ + "." + name]
+    elif name == "environment":
+        import mtlxgen.draw.environment
+        value = mtlxgen.draw.environment
     elif name == "__version__":
         value = _version()
     else:
         raise AttributeError("module 'mtlxgen' has no attribute %r" % name)
     globals()[name] = value
     return value
-
-
-class _CallableModule(type(sys)):
-    """The class of the module mtlxgen.render: calling it is calling api.render (render.py sets it)."""
-
-    def __call__(self, *args, **kwargs):
-        from .api import render
-        return render(*args, **kwargs)
-
-    @property
-    def __wrapped__(self):          # help() and inspect.signature show api.render's
-        from .api import render
-        return render
 
 
 def __dir__():
@@ -92,7 +68,7 @@ def _version():
         return "0+unknown"
 
 # usdstage.USD_EXTENSIONS, here so that telling a USD stage from a .mtlx document imports nothing (usdstage's
-# import costs a small generation's time); tests/test_library_index.py holds them equal
+# import costs a small generation's time); tests/read/test_library_index.py holds them equal
 USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
 
 

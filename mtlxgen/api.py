@@ -26,8 +26,8 @@ import warnings as _warnings
 from dataclasses import dataclass, fields
 from typing import Iterable, NamedTuple, Optional, Sequence, Union
 
-from .diagnostics import Loc, MtlxError, Warnings
-from .emit import Shader
+from mtlxgen.base.diagnostics import Loc, MtlxError, Warnings
+from mtlxgen.emit.emitter import Shader
 
 __all__ = ["generate", "render", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
            "Problem"]
@@ -168,7 +168,7 @@ def generate_options(target="glsl", interface="complete", options=None, **settin
     """The options.GenerateOptions of the public calls' target, interface and Options (or dict of its fields), with
     `settings` (GenerateOptions fields: unreadable_textures, max_lights, ...) on top: where the public options become
     the internal ones, each bad value a ValueError (TypeError) of its own."""
-    from .options import GenerateOptions
+    from mtlxgen.options import GenerateOptions
     opts = Options.of(options)
     if isinstance(interface, str) and interface not in ("complete", "reduced"):
         raise ValueError("interface must be 'complete' or 'reduced', not %r" % (interface,))
@@ -186,8 +186,8 @@ def generate_partial(source, elements=None, options=None, warnings=None, **setti
     collected. What generate and the command line share. options: an options.GenerateOptions (None: the defaults),
     `settings` its fields as keywords on top (pipeline.generate); warnings: a diagnostics.Warnings that receives the
     warnings (as (Loc, message), <string> for a string's)."""
-    from . import pipeline
-    from .options import GenerateOptions
+    from mtlxgen import pipeline
+    from mtlxgen.options import GenerateOptions
     opts = GenerateOptions.of(options, **settings)
     src = _Source(source)
     found = Warnings()
@@ -279,7 +279,7 @@ class Session:
     def render(self, shader_or_source: Union[Shader, PathLike, str], element: Optional[str] = None, *,
                size: Optional[int] = None, environment=None, samples: Optional[int] = None):
         """render(...) with this session's GL context: a Shader as it is, or a document's element generated first."""
-        from . import pipeline
+        from mtlxgen import pipeline
         if isinstance(shader_or_source, Shader):
             shader = shader_or_source
         else:
@@ -294,7 +294,7 @@ class Session:
             raise DocumentError.of(pipeline.at_inputs(shader, e)) from None
 
     def _renderer_for(self, size, environment):
-        from . import render as _render
+        from mtlxgen.draw import renderer as _render
         key = environment if isinstance(environment, (str, os.PathLike, type(None))) else id(environment)
         if self._renderer is not None and self._renderer.size != size:
             self._renderer.close()
@@ -325,12 +325,12 @@ def _environment_map(environment):
     if environment is None:
         return None
     if isinstance(environment, (str, os.PathLike)):
-        from .environment import load_environment
+        from mtlxgen.draw.environment import load_environment
         try:
             return load_environment(os.fspath(environment))
         except MtlxError as e:
             raise DocumentError.of(e) from None
-    from .environment import Environment
+    from mtlxgen.draw.environment import Environment
     if isinstance(environment, Environment):
         return environment.radiance[0]
     return environment

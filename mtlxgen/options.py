@@ -13,11 +13,11 @@ import os
 from dataclasses import dataclass, fields, replace as _replace
 from typing import Optional
 
-from .diagnostics import Loc, MtlxError
-from .interface import LIGHTS_LIMIT
-from .targets import NAMES as TARGETS
+from mtlxgen.base.diagnostics import Loc, MtlxError
+from mtlxgen.base.interface import LIGHTS_LIMIT
+from mtlxgen.base.targets import NAMES as TARGETS
 
-# emit.ENVIRONMENT_METHODS (tests/test_library_index.py holds them equal): here so that checking options does not
+# emit.ENVIRONMENT_METHODS (tests/read/test_library_index.py holds them equal): here so that checking options does not
 # import the emitter
 ENVIRONMENT_METHODS = ("fis", "prefiltered")
 INTERFACES = ("complete", "reduced")                    # reduce.INTERFACES
@@ -58,7 +58,7 @@ class GenerateOptions:
     def __post_init__(self):
         iface = self.interface
         if not isinstance(iface, str):                  # a reduce.Interface: its kind and keep list
-            from .reduce import Interface
+            from mtlxgen.passes.reduce import Interface
             if not isinstance(iface, Interface):
                 raise TypeError("interface must be 'complete', 'reduced' or a reduce.Interface, not %s"
                                 % type(iface).__name__)
@@ -121,19 +121,19 @@ class GenerateOptions:
     def make_interface(self):
         """A fresh reduce.Interface of the interface and keep list (it records which kept names matched an input
         of the elements generated: one per generation)."""
-        from .reduce import Interface
+        from mtlxgen.passes.reduce import Interface
         return Interface(self.interface, list(self.keep))
 
     def stage_options(self, path):
         """usdstage.StageOptions for a USD stage at `path`; None for a .mtlx document, where variants or a render
         context are a problem (MtlxError, one line at the file)."""
-        from . import is_usd
+        from mtlxgen import is_usd
         if not is_usd(path):
             if self.variants or self.render_context:
                 raise MtlxError((Loc(path, 0), "%s applies to USD stages (.usd, .usda, .usdc, .usdz) only"
                                  % ("--variant" if self.variants else "--render-context")))
             return None
-        from .usdstage import StageOptions
+        from mtlxgen.read.usdstage import StageOptions
         return StageOptions(variants=self.variants, render_context=self.render_context or "mtlx")
 
 

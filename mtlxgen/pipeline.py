@@ -2,29 +2,24 @@
 import copy
 import os
 
-from . import document, emit, functions, glslcheck, graph, is_usd, library, nodes, passes
-from .diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
-from .options import GenerateOptions
-from .transparency import transparent_surface
-from .xmlreader import gc_paused
-
-
-def load_document(path, library_dirs=(), usd_options=None):
-    """The Document of a .mtlx file, or of the materials of a USD stage (.usd, .usda, .usdc, .usdz:
-    usdstage.py; usd_options a usdstage.StageOptions)."""
-    if not os.path.exists(path):
-        raise MtlxError((Loc(path, 0), "no such file"))
-    if is_usd(path):
-        from . import usdstage
-        return usdstage.load(path, library_dirs, usd_options)
-    return document.load_upgraded(path, library_dirs)
+from mtlxgen.read import library
+from mtlxgen.emit import emitter as emit
+from mtlxgen.graph import functions, build as graph
+from mtlxgen.draw import glslcheck
+from mtlxgen import nodes
+from mtlxgen.passes import order as passes
+from mtlxgen.base.diagnostics import Loc, MtlxError, Problems, Warnings, strict_error, warning_lines
+from mtlxgen.options import GenerateOptions
+from mtlxgen.graph.transparency import transparent_surface
+from mtlxgen.read.source import load_document  # noqa: F401 (pipeline.load_document)
+from mtlxgen.read.xmlreader import gc_paused
 
 
 def graph_rules(usd_seed_rules=False):
     """The graph.BuildRules graph building works under: the GLSL target's (nodes.RULES), with USD's seed
     rules on top where they are on (nodes/usd.py)."""
     if usd_seed_rules:
-        from .nodes.usd import SeedRules
+        from mtlxgen.nodes.usd import SeedRules
         return SeedRules(nodes.RULES)
     return nodes.RULES
 
@@ -82,7 +77,7 @@ class Session:
         self.elements = list(elements or graph.renderable_elements(self.doc))
         usd_seed_rules = options.usd_seed_rules
         if usd_seed_rules is None:
-            from .nodes.usd import comes_from_usd
+            from mtlxgen.nodes.usd import comes_from_usd
             usd_seed_rules = comes_from_usd(self.doc)
         self.usd_seed_rules = usd_seed_rules
         self.rules = graph_rules(usd_seed_rules)     # what the target tells graph building
@@ -123,7 +118,7 @@ class Session:
         iface = interface or self.interface
         if graph is None:                   # the build pass
             graph = self.graph(name, functions=not iface.reduced)
-        ir, kept = passes.run(graph, iface)     # the later passes, in order (passes.py)
+        ir, kept = passes.run(graph, iface)     # the later passes, in order (passes/order.py)
         try:
             shader = self._emit(ir, iface)
         except functions.Inline:            # a compile-time input connected: expanded in place instead
@@ -192,9 +187,9 @@ class Session:
 def texture_problem(value, doc_path):
     """Why the texture file a filename value names cannot be read (a message naming it), or None: none named,
     found and a regular file within the image cap, or a tile pattern (emission finds tiles and refuses a
-    pattern without any: emit.py)."""
-    from .files import quoted, regular_file_problem
-    from .resolve import resolve_file
+    pattern without any: emit/emitter.py)."""
+    from mtlxgen.base.files import quoted, regular_file_problem
+    from mtlxgen.base.resolve import resolve_file
     if not isinstance(value, str) or not value.strip() or "<UDIM>" in value or "<UVTILE>" in value:
         return None
     found = resolve_file(value, doc_path)
@@ -222,7 +217,7 @@ def at_inputs(shader, error):
     """`error` (an MtlxError from drawing `shader`) with each problem about one of its texture files (reported at
     FILE:0 by the image reader, FILE:LINE by the IES reader) moved to the document input naming that file
     (Shader.texture_inputs, set by Session.drawable): one line naming the input and the texture."""
-    from .files import quoted
+    from mtlxgen.base.files import quoted
     where = getattr(shader, "texture_inputs", None) or {}
     moved = []
     for loc, message in error.problems:

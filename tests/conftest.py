@@ -42,7 +42,7 @@ def generate_switched(path, switches, **options):
     {emitcache: False} sets emitcache.REUSE), as comparable data: ([(element, stem, vertex, fragment, manifest)],
     problem lines or None), or (None, lines) for a document that does not open."""
     from mtlxgen import pipeline
-    from mtlxgen.diagnostics import MtlxError
+    from mtlxgen.base.diagnostics import MtlxError
     saved = {m: m.REUSE for m in switches}
     for m, value in switches.items():
         m.REUSE = value
@@ -223,10 +223,10 @@ def _gl_guard(request, _nogl_report, monkeypatch):
     def refuse(what, kind):
         pytest.fail(nogl_guard.MESSAGES[kind] % what, pytrace=False)
     restore = nogl_guard.install(refuse, kinds)
-    if "gl" in kinds and "mtlxgen.glslcheck" in sys.modules:
+    if "gl" in kinds and "mtlxgen.draw.glslcheck" in sys.modules:
         # glslcheck keeps its compile context, or its failure to make one, per process: each test asks afresh,
         # so a test generating a document's own GLSL meets the guard whatever ran before it
-        monkeypatch.setattr(sys.modules["mtlxgen.glslcheck"], "_WORKER", {})
+        monkeypatch.setattr(sys.modules["mtlxgen.draw.glslcheck"], "_WORKER", {})
     for name, value in nogl_guard.child_env_changes(_nogl_report, kinds).items():
         monkeypatch.setenv(name, value)
     try:
@@ -243,7 +243,7 @@ def _gl_guard(request, _nogl_report, monkeypatch):
 
 @pytest.fixture(scope="session")
 def renderer():
-    from mtlxgen.render import Renderer
+    from mtlxgen.draw.renderer import Renderer
     with Renderer(size=TEST_SIZE) as r:
         yield r
 
@@ -251,7 +251,7 @@ def renderer():
 @pytest.fixture(scope="session")
 def reference():
     """MaterialX's GenGlsl. Fails (not skips) when the wheel is missing: parity must be checked."""
-    from mtlxgen.reference import MaterialXReference, ReferenceUnavailable
+    from mtlxgen.apps.reference import MaterialXReference, ReferenceUnavailable
     try:
         return MaterialXReference(REFERENCE_SEARCH)
     except ReferenceUnavailable as e:
@@ -261,22 +261,22 @@ def reference():
 @pytest.fixture(scope="session")
 def cms_reference():
     """MaterialX's GenGlsl with its colour management on (sRGB files converted as the spec says)."""
-    from mtlxgen.reference import MaterialXReference
+    from mtlxgen.apps.reference import MaterialXReference
     return MaterialXReference(REFERENCE_SEARCH, color_management=True)
 
 
 @pytest.fixture(scope="session")
 def harness():
     """Our Renderer in the scoreboard's scene (render.SCOREBOARD_SCENE: what ../shared/tools/mxharness.py
-    draws; tests/test_scoreboard_scene.py checks that), at the tests' size."""
-    from mtlxgen.render import Renderer
+    draws; tests/draw/test_scoreboard_scene.py checks that), at the tests' size."""
+    from mtlxgen.draw.renderer import Renderer
     with Renderer.scoreboard(size=TEST_SIZE) as r:
         yield r
 
 
 @pytest.fixture(scope="session")
 def library():
-    from mtlxgen.library import load_library
+    from mtlxgen.read.library import load_library
     return load_library()
 
 

@@ -1,6 +1,6 @@
 """Fuzzing the CLI with mutated documents: a seeded mutator of our own and the checks every input must pass.
 
-Used by tests/test_fuzz.py (a few hundred cases in CI) and tools/fuzz.py (any count, any seed).
+Used by tests/read/test_fuzz.py (a few hundred cases in CI) and tools/fuzz.py (any count, any seed).
 Each case is a seed document (tests/fuzz_seeds/, the bundled examples) put through one to four
 mutations: byte edits (flip, insert, delete, truncate), XML edits (drop, duplicate, re-parent or deeply
 nest elements; rename tags, element names and attributes; hostile attribute values) and MaterialX edits
@@ -285,7 +285,7 @@ def prepare_case_dir(case_dir):
 def run_case(text, case_dir, compile_program, roots):
     """Generate one mutated document through the CLI in this process; returns a list of failures (empty when
     the case is clean). compile_program(vertex, fragment) raises on a shader that does not link."""
-    from mtlxgen import cli
+    from mtlxgen.apps import cli
     import shutil
     doc = os.path.join(case_dir, "doc", "case.mtlx")
     out = os.path.join(case_dir, "out")
@@ -300,7 +300,7 @@ def run_case(text, case_dir, compile_program, roots):
         raise _Timeout()
     old = signal.signal(signal.SIGALRM, on_alarm)
     signal.alarm(TIME_LIMIT_S)
-    from mtlxgen import glslcheck
+    from mtlxgen.draw import glslcheck
     glslcheck.context()         # the compile context for document GLSL opens the driver's files: made beforehand
     _Opens.recording = opened
     try:

@@ -1,9 +1,11 @@
 """Build a one-node document for any nodedef and generate + compile it (used by the coverage test)."""
 import os
 
-from mtlxgen import emit, graph, pipeline
-from mtlxgen.diagnostics import MtlxError
-from mtlxgen.document import Document, Node
+from mtlxgen.emit import emitter as emit
+from mtlxgen.graph import build as graph
+from mtlxgen import pipeline
+from mtlxgen.base.diagnostics import MtlxError
+from mtlxgen.read.document import Document, Node
 
 VALUE_TYPES = {"float", "integer", "boolean", "color3", "color4", "vector2", "vector3", "vector4",
                "matrix33", "matrix44", "surfaceshader", "material", "BSDF", "EDF", "VDF", "volumeshader",
@@ -12,7 +14,7 @@ VALUE_TYPES = {"float", "integer", "boolean", "color3", "color4", "vector2", "ve
 
 def probe_nodedef(nd, library, compile_fn):
     """None when the nodedef generates and compiles; otherwise a one-line reason."""
-    from mtlxgen.diagnostics import Loc
+    from mtlxgen.base.diagnostics import Loc
     loc = Loc("<probe %s>" % nd.name, 1)
     node_type = nd.type if len(nd.outputs) == 1 else "multioutput"
     doc = Document(path=os.path.join(os.getcwd(), "probe.mtlx"))

@@ -4,9 +4,9 @@ on a machine without Mesa) the fast subset `pytest -m "not gl"`.
 
 What counts as GL use (the things the `gl` marker stands for):
 - a GL context: moderngl's create_standalone_context / create_context / init_context (which EGL, OSMesa, X11,
-  mtlxgen.glcontext, render.Renderer, the viewer and glslcheck all go through);
+  mtlxgen.draw.glcontext, render.Renderer, the viewer and glslcheck all go through);
 - a GLSL compiler or validator run as a program: glslangValidator, spirv-val, or anything under
-  ../shared/tools/gpu_proxy (mtlxgen.glslvalidate.run_tool and tests calling subprocess directly alike).
+  ../shared/tools/gpu_proxy (mtlxgen.apps.glslvalidate.run_tool and tests calling subprocess directly alike).
 
 In the test process the guard raises pytest's Failed (a BaseException, so `except Exception` fallbacks such as
 glcontext's backend loop cannot swallow it). Python subprocesses (the CLI run as a program) inherit it through

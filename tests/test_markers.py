@@ -2,6 +2,7 @@
 mislabelled test fail (tests/nogl_guard.py): a test not marked gl that creates a GL context or runs a GLSL
 compiler, in this process or in a Python subprocess, fails with "test uses GL but is not marked gl"."""
 import ast
+import glob
 import os
 import subprocess
 import sys
@@ -42,7 +43,7 @@ def test_context_factories_are_refused_then_restored(factory):
 def test_the_context_factory_of_the_package_is_refused_with_the_message():
     """What a mislabelled test meets: glcontext's fallback loop catches Exception, the guard's failure passes
     through it (pytest's Failed is a BaseException) and names the marker."""
-    from mtlxgen import glcontext
+    from mtlxgen.draw import glcontext
     with pytest.raises(BaseException) as caught:
         glcontext.create_context()
     assert "test uses GL but is not marked gl" in str(caught.value)
@@ -94,7 +95,7 @@ def test_a_compiler_run_through_subprocess_is_refused():
 
 @pytest.mark.parametrize("code, what", [
     ("import moderngl; moderngl.create_standalone_context()", "moderngl.create_standalone_context()"),
-    ("from mtlxgen import glcontext; glcontext.create_context()", "moderngl.create_standalone_context()"),
+    ("from mtlxgen.draw import glcontext; glcontext.create_context()", "moderngl.create_standalone_context()"),
     ("import subprocess; subprocess.run(['spirv-val', 'x.spv'])", "ran spirv-val"),
     ("import subprocess; subprocess.run(['chromium', '--version'])", "not marked browser: subprocess -c ran chromium"),
 ])
@@ -122,8 +123,14 @@ def test_a_python_subprocess_without_gl_is_left_alone(tmp_path):
     assert not os.path.exists(report)
 
 
+def _module_path(module):
+    """tests/STAGE/MODULE.py (the tests mirror the package's stages), or None."""
+    found = glob.glob(os.path.join(TESTS, "**", module + ".py"), recursive=True)
+    return found[0] if found else None
+
+
 def _test_functions(module):
-    with open(os.path.join(TESTS, module + ".py"), encoding="utf-8") as f:
+    with open(_module_path(module), encoding="utf-8") as f:
         tree = ast.parse(f.read())
     return {n.name for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))}
 
@@ -134,7 +141,7 @@ def test_every_table_entry_names_a_test_that_exists():
     for key, marks in conftest.MODULE_MARKS.items():
         module, _, function = key.partition("::")
         assert set(marks) <= {"gl", "browser", "window"}, key
-        if not os.path.exists(os.path.join(TESTS, module + ".py")):
+        if _module_path(module) is None:
             stale.append(key)
         elif function and function not in _test_functions(module):
             stale.append(key)

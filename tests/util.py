@@ -4,7 +4,10 @@ import os
 
 import numpy as np
 
-from mtlxgen import compare, document, images, pipeline
+from mtlxgen.draw import compare
+from mtlxgen.read import document
+from mtlxgen.base import images
+from mtlxgen import pipeline
 
 FAILURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_failures")
 
@@ -85,7 +88,7 @@ def assert_harness_parity(harness, reference, path, element, theirs_shader=None)
 
 @functools.lru_cache(maxsize=1)
 def _element_lister():
-    from mtlxgen.reference import MaterialXReference
+    from mtlxgen.apps.reference import MaterialXReference
     return MaterialXReference()
 
 

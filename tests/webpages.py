@@ -1,4 +1,4 @@
-"""Headless Chromium for tests/test_web.py and tests/test_three.py: Debian's /usr/bin/chromium (WebGL2 on
+"""Headless Chromium for tests/apps/test_web.py and tests/apps/test_three.py: Debian's /usr/bin/chromium (WebGL2 on
 SwiftShader) driven by Python's playwright, never a downloaded browser; pages' pixels read back from their
 canvas and compared with `mtlxgen render`'s at the parity line (mean <= 2/255, <= 1% of pixels over 8/255)."""
 import base64

@@ -5,7 +5,7 @@
 
 Prints one line per failing case (and writes the failing document to --keep, default a fresh temporary
 folder), then a summary; exits 1 when any case failed. The same checks run in the test suite on a few
-hundred cases (tests/test_fuzz.py).
+hundred cases (tests/read/test_fuzz.py).
 """
 import argparse
 import os
@@ -26,7 +26,7 @@ def main():
     ap.add_argument("--keep", metavar="DIR", help="where failing documents go (default: a fresh temporary folder)")
     args = ap.parse_args()
     import fuzzing
-    from mtlxgen.render import create_context
+    from mtlxgen.draw.renderer import create_context
     ctx = create_context()
 
     def compile_program(vs, fs):

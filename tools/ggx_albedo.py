@@ -7,7 +7,7 @@ A = int (1 - (1 - v.h)^5) f cos, B = int (1 - v.h)^5 f cos (f without Fresnel). 
 importance-sampling visible normals (Heitz 2018) on a stratified grid: the estimator is F G2 / G1(v).
 
 Writes glsl_lib/pbrlib/microfacet/albedo_fit.glsl, a least-squares polynomial fit of the table (the
-table itself is checked against Monte Carlo in tests/test_pbr_microfacet.py; shaders carry only the fit).
+table itself is checked against Monte Carlo in tests/nodes/test_pbr_microfacet.py; shaders carry only the fit).
 usage: tools/ggx_albedo.py
 """
 import os

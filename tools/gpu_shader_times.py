@@ -27,12 +27,12 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 def one(base, size):
     sys.path.insert(0, ROOT)
     import numpy as np
-    from mtlxgen.render import Renderer
+    from mtlxgen.draw.renderer import Renderer
     r = Renderer.scoreboard(size=size)
     vs, fs = open(base + ".vert").read(), open(base + ".frag").read()
     manifest = json.load(open(base + ".json")) if os.path.exists(base + ".json") else None
     if manifest is not None:        # texture files are relative to the manifest's folder
-        from mtlxgen.interface import absolute_textures
+        from mtlxgen.base.interface import absolute_textures
         manifest = absolute_textures(manifest, os.path.dirname(os.path.abspath(base)))
     t0 = time.perf_counter()
     prepared = r.prepare(vs, fs, manifest)
@@ -87,7 +87,7 @@ def main():
         time.sleep(0.1)
     import numpy as np
     sys.path.insert(0, ROOT)
-    from mtlxgen import compare
+    from mtlxgen.draw import compare
     for ours in sorted(glob.glob(os.path.join(args.dir, "*_ours.npy"))):
         theirs = ours[:-len("_ours.npy")] + "_mx.npy"
         if os.path.exists(theirs):

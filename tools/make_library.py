@@ -1,5 +1,5 @@
 """A synthetic material library to scale batch rendering and golden checks on (benchmarks/bench_cluster.py,
-tests/test_cluster.py): N varied materials, one .mtlx document each, and the textures they sample.
+tests/apps/test_cluster.py): N varied materials, one .mtlx document each, and the textures they sample.
 
     python tools/make_library.py N OUTDIR [--seed S] [--textures T] [--texture-size PX] [--kinds K,K,...]
 

@@ -31,9 +31,11 @@ sys.path.insert(0, ROOT)
 
 import numpy as np  # noqa: E402
 
-from mtlxgen import compare, images, pipeline  # noqa: E402
-from mtlxgen.reference import MaterialXReference  # noqa: E402
-from mtlxgen.render import Renderer  # noqa: E402
+from mtlxgen.draw import compare
+from mtlxgen.base import images
+from mtlxgen import pipeline  # noqa: E402
+from mtlxgen.apps.reference import MaterialXReference  # noqa: E402
+from mtlxgen.draw.renderer import Renderer  # noqa: E402
 
 HEAD = '<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
 MATERIAL = ('<surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" '

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Developer tool: our render vs MaterialX's for elements of one document, both drawn in the scoreboard's
-scene (mtlxgen.render.Renderer.scoreboard), with side-by-side images (ours | MaterialX | diff x8).
+scene (mtlxgen.draw.renderer.Renderer.scoreboard), with side-by-side images (ours | MaterialX | diff x8).
 
 usage: tools/parity.py FILE.mtlx [ELEMENT ...] [--out DIR] [--color-management]
 Images go to --out, or else to a fresh temporary directory (printed).
@@ -18,10 +18,12 @@ CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
 
 import numpy as np  # noqa: E402
 
-from mtlxgen import compare, images, pipeline  # noqa: E402
-from mtlxgen.diagnostics import MtlxError  # noqa: E402
-from mtlxgen.reference import MaterialXReference  # noqa: E402
-from mtlxgen.render import Renderer  # noqa: E402
+from mtlxgen.draw import compare
+from mtlxgen.base import images
+from mtlxgen import pipeline  # noqa: E402
+from mtlxgen.base.diagnostics import MtlxError  # noqa: E402
+from mtlxgen.apps.reference import MaterialXReference  # noqa: E402
+from mtlxgen.draw.renderer import Renderer  # noqa: E402
 
 
 def main():

@@ -22,9 +22,11 @@ sys.path.insert(0, ROOT)
 
 import numpy as np  # noqa: E402
 
-from mtlxgen import compare, images, pipeline  # noqa: E402
-from mtlxgen.reference import MaterialXReference  # noqa: E402
-from mtlxgen.render import Renderer  # noqa: E402
+from mtlxgen.draw import compare
+from mtlxgen.base import images
+from mtlxgen import pipeline  # noqa: E402
+from mtlxgen.apps.reference import MaterialXReference  # noqa: E402
+from mtlxgen.draw.renderer import Renderer  # noqa: E402
 
 SHADERS = ["ND_standard_surface_surfaceshader", "ND_gltf_pbr_surfaceshader", "ND_open_pbr_surface_surfaceshader",
            "ND_UsdPreviewSurface_surfaceshader"]

@@ -5,7 +5,7 @@ rough transmission).
 A uniform white environment of radiance 1, no lights: a dielectric_bsdf in scatter_mode RT (one interface,
 reflection and transmission) can return at most 1 at any pixel. For each roughness (alpha) it prints, over
 the sphere: ours (mean, max), ours with the refraction's energy cap lifted (MG_REFRACTION_UNBOUNDED:
-MaterialX's estimate, shown at parity with MaterialX by tests/test_rough_transmission.py), MaterialX's
+MaterialX's estimate, shown at parity with MaterialX by tests/nodes/test_rough_transmission.py), MaterialX's
 (mean, max, outer ring mean), the share of the sphere where the cap lowers the estimate by over 2%, and
 how much of that share MaterialX draws above 1.
 
@@ -22,9 +22,10 @@ sys.path.insert(0, ROOT)
 
 import numpy as np  # noqa: E402
 
-from mtlxgen import images, pipeline  # noqa: E402
-from mtlxgen.reference import MaterialXReference  # noqa: E402
-from mtlxgen.render import Renderer  # noqa: E402
+from mtlxgen.base import images
+from mtlxgen import pipeline  # noqa: E402
+from mtlxgen.apps.reference import MaterialXReference  # noqa: E402
+from mtlxgen.draw.renderer import Renderer  # noqa: E402
 
 DOC = """<?xml version="1.0"?>
 <materialx version="1.39">

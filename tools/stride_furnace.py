@@ -13,7 +13,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from mtlxgen import pipeline                  # noqa: E402
-from mtlxgen.render import Renderer           # noqa: E402
+from mtlxgen.draw.renderer import Renderer           # noqa: E402
 
 VISIBILITY = ["implicit", "neumann", "cook_torrance", "kelemen", "smith_beckmann", "smith_ggx_correlated",
               "schlick_beckmann", "schlick_ggx"]

@@ -16,8 +16,8 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from mtlxgen import targets  # noqa: E402
-from mtlxgen.glslvalidate import GLSLANG, validate_documents  # noqa: E402
+from mtlxgen.base import targets  # noqa: E402
+from mtlxgen.apps.glslvalidate import GLSLANG, validate_documents  # noqa: E402
 
 
 def documents(root):

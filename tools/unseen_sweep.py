@@ -36,10 +36,12 @@ CORPUS = os.path.join(ROOT, "..", "shared", "corpus", "materialx")
 
 import numpy as np  # noqa: E402
 
-from mtlxgen import USD_EXTENSIONS, compare, images, is_usd, pipeline  # noqa: E402
-from mtlxgen.diagnostics import MtlxError  # noqa: E402
-from mtlxgen.reference import MaterialXReference  # noqa: E402
-from mtlxgen.render import Renderer  # noqa: E402
+from mtlxgen import USD_EXTENSIONS, is_usd, pipeline
+from mtlxgen.draw import compare
+from mtlxgen.base import images  # noqa: E402
+from mtlxgen.base.diagnostics import MtlxError  # noqa: E402
+from mtlxgen.apps.reference import MaterialXReference  # noqa: E402
+from mtlxgen.draw.renderer import Renderer  # noqa: E402
 
 
 KNOWN = [os.path.join(ROOT, "..", "shared", "corpus"), os.path.join(ROOT, "..", "shared", "seeds")]

@@ -26,9 +26,9 @@ import importlib
 import os
 from dataclasses import dataclass, field
 
-from ..diagnostics import MtlxError
-from ..graph import BuildRules
-from ..graphtypes import glsl_identifier
+from mtlxgen.base.diagnostics import MtlxError
+from mtlxgen.graph.build import BuildRules
+from mtlxgen.base.identifiers import glsl_identifier
 
 # every table module in this package (all but handlers), in name order (a listing of the folder: pkgutil would
 # import typing, 2 ms of every start)
@@ -77,7 +77,7 @@ def lookup(nodedef, library):
     doc_impl = library.implementations.get(nodedef.name)
     if doc_impl is not None and nodedef.source in ("document", "user"):
         if doc_impl.sourcecode is not None:
-            from ..sourcecode import problem as sourcecode_problem
+            from mtlxgen.nodes.sourcecode import problem as sourcecode_problem
             problem = sourcecode_problem(doc_impl.sourcecode, nodedef, library.structs)
             if problem:
                 raise MtlxError((doc_impl.loc, "implementation '%s': %s" % (doc_impl.name, problem)))

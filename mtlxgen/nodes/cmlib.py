@@ -9,9 +9,9 @@ library's nodegraphs with one call) and the image nodes, which apply the transfo
 graph building's (graph.GraphBuilder.color_managed): a public uniform keeps its authored value and a
 cmlib node converts it in the shader, a constant is converted there (colorspaces.convert_value).
 """
-from ..colorspaces import (REMAP, SPACES, WORKING_SPACE, WORKING_SPACES, canonical,  # noqa: F401 (cmlib.X)
-                           convert_value, is_working_space, nodedef_name, to_rec709_matrix)
-from ..nodevalue import np
+from mtlxgen.base.colorspaces import (REMAP, SPACES, WORKING_SPACE, WORKING_SPACES, canonical,  # noqa: F401 (cmlib.X)
+                                      convert_value, is_working_space, nodedef_name, to_rec709_matrix)
+from mtlxgen.nodes.nodevalue import np
 
 _SRGB = "cmlib/srgb_transfer.glsl"
 _GAMMA = "cmlib/gamma_transfer.glsl"

@@ -18,7 +18,7 @@ it a non-zero value, to keep the layer adjustable at run time.
 
 The energy tables are glsl_lib/enterprise/tables.glsl, written by tools/enterprise_tables.py.
 """
-from .lit_surface import light_loop, lit_surface, takes_lights
+from mtlxgen.nodes.lit_surface import light_loop, lit_surface, takes_lights
 
 FILES = ["enterprise/enterprise_pbr.glsl"]
 

@@ -98,7 +98,7 @@ def _color_managed(em, expr, out_type, colorspace):
 
     As MaterialX: the working space is the document's `colorspace`; a document declaring none, or one
     other than lin_rec709 (cmlib converts only to lin_rec709), reads its files unconverted."""
-    from . import cmlib
+    from mtlxgen.nodes import cmlib
     t = None
     if out_type in ("color3", "color4") and cmlib.is_working_space(em.graph.colorspace):
         t = cmlib.transform(colorspace)
@@ -130,7 +130,7 @@ def _default_value(node, name="default"):
 
 def _udim_tiles(node, em, sampler, value, colorspace):
     """{(u, v) cell: new sampler uniform} for a file naming <UDIM> or <UVTILE>, one per tile on disk."""
-    from ..resolve import resolve_file
+    from mtlxgen.base.resolve import resolve_file
     folder, base = _os.path.split(value)
     where = resolve_file(folder or ".", em.graph.doc_path)
     if where is None or not _os.path.isdir(where):

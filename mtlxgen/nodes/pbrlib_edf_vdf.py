@@ -1,5 +1,5 @@
 """EDFs and VDFs of pbrlib that MaterialX's own GLSL does not generate (MaterialX Specification 1.39):
-conical_edf, measured_edf (IES LM-63 profiles, mtlxgen/ies.py), absorption_vdf, anisotropic_vdf, the
+conical_edf, measured_edf (IES LM-63 profiles, mtlxgen/draw/ies.py), absorption_vdf, anisotropic_vdf, the
 `volume` shader constructor, and the layer of a BSDF over a VDF. (mix / add / multiply of VDFs are the
 closure combinators of stdlib_compositing and pbrlib_shading; mix_volumeshader and
 mix_displacementshader are stdlib_compositing's.)
@@ -10,7 +10,7 @@ Beer–Lambert transmittance over a fixed path length (glsl_lib/pbrlib/vdf/absor
 what the medium scatters towards the eye; in every other context it is the empty VDF, so layering a
 BSDF over it changes only transmission.
 measured_edf's `file` is a texture like an image's: the manifest's texture entry names the .ies file
-(an application turns it into the 2-D texture with mtlxgen.ies.load_texture, as render.py does).
+(an application turns it into the 2-D texture with mtlxgen.draw.ies.load_texture, as draw/renderer.py does).
 """
 
 _EDF = "pbrlib/edf/"

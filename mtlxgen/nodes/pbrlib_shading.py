@@ -7,7 +7,7 @@ for each direct light (mg_L is the direction to the light), "indirect" for the e
 mg_occlusion, and in "transmission" mg_thin_walled (the surface is a thin shell: what is seen through it
 is not bent by a solid interior). Opacity scales the colour and blends the transparency towards 1.
 """
-from .lit_surface import light_loop, lit_surface, takes_lights
+from mtlxgen.nodes.lit_surface import light_loop, lit_surface, takes_lights
 
 
 def shade(em, bsdf=None, edf=None, opacity="1.0", stem="surface", thin_walled="false"):
@@ -56,7 +56,7 @@ NODES = {
         "files": ["pbrlib/bsdf/oren_nayar.glsl"]},
     "uniform_edf": {"closure": {"emission": "{{color}}"}},
     # displacement (MaterialX Specification 1.39): a scalar moves along the normal; a vector is given
-    # in the (dPdu, dPdv, N) frame. Applied in the vertex stage (emit.py), in object space.
+    # in the (dPdu, dPdv, N) frame. Applied in the vertex stage (emit/emitter.py), in object space.
     "displacement": "displacementshader({{@normal_object}} * {{displacement}}, {{scale}})",
 }
 

@@ -5,7 +5,7 @@ data library.
 """
 import math
 
-from ..nodevalue import need, np
+from mtlxgen.nodes.nodevalue import need, np
 
 
 # evaluators (nodevalue.py): the templates' values in Python, term for term

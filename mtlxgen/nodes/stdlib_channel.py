@@ -3,7 +3,7 @@
 separateN and most convert variants are nodegraphs in the data library (built from extract,
 combine and constant), so only the leaves live here.
 """
-from ..nodevalue import NotFoldable, need, np, size
+from mtlxgen.nodes.nodevalue import NotFoldable, need, np, size
 
 
 # evaluators (nodevalue.py): the templates' values in Python, term for term

@@ -5,7 +5,7 @@ Merge nodes are the Porter & Duff (1984) operators on premultiplied colour4, whe
 alphas of F and B. overlay is a nodegraph in the data library.
 """
 
-from ..nodevalue import need, np
+from mtlxgen.nodes.nodevalue import need, np
 
 _CD = "stdlib/compositing/"
 

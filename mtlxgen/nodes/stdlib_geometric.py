@@ -1,7 +1,7 @@
 """stdlib geometric nodes (MaterialX Specification 1.39, "Geometric Nodes"): reads of vertex streams.
 
 Spaces: "model" and "object" read the mesh's own frame, "world" applies u_worldMatrix (normals its
-inverse transpose). The stream table is in mtlxgen/streams.py.
+inverse transpose). The stream table is in mtlxgen/base/streams.py.
 """
 
 NODES = {

@@ -4,7 +4,7 @@ Matrices: MaterialX matrices are row-major with row vectors (v' = v M); we uploa
 so GLSL sees the transpose, and M1 M2 becomes {{in2}} * {{in1}}.
 """
 
-from ..nodevalue import domain, need, np
+from mtlxgen.nodes.nodevalue import domain, need, np
 
 
 # evaluators (nodevalue.py): the templates' values in Python, term for term

@@ -18,8 +18,8 @@ every lit shading model shares (lit_surface.py):
   scaled by it and the transparency blended to 1, as `surface` does with opacity). Thin glass also
   lets its view-based transmittance through as transparency.
 """
-from ..diagnostics import MtlxError
-from .lit_surface import light_loop, lit_surface, takes_lights
+from mtlxgen.base.diagnostics import MtlxError
+from mtlxgen.nodes.lit_surface import light_loop, lit_surface, takes_lights
 
 FILES = ["stride/fresnel.glsl", "stride/visibility.glsl", "stride/ndf.glsl", "stride/diffuse.glsl",
          "stride/environment.glsl"]

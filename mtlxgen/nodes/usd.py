@@ -35,8 +35,8 @@ and accepts the seed's `result` output name for the `out` of USD nodes (UsdPrimv
 """
 import re
 
-from ..files import regular_file_problem
-from ..graphtypes import sha256
+from mtlxgen.base.files import regular_file_problem
+from mtlxgen.base.identifiers import sha256
 
 USD_CATEGORIES = ("UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader", "UsdTransform2d")
 
@@ -136,7 +136,7 @@ def file_info(path):
     """{channels, bits8, linear_claim, wrapS, wrapT} of an image file from its header, or None."""
     if not path or regular_file_problem(path) is not None:     # no devices, FIFOs or /proc (files.py)
         return None
-    from ..images import _oiio_errors, captured_stderr
+    from mtlxgen.base.images import _oiio_errors, captured_stderr
     try:
         import OpenImageIO as oiio
         with captured_stderr():
@@ -186,8 +186,8 @@ def source_is_srgb(source, info):
 def uv_texture(node, em):
     """UsdUVTexture by the seed's rules. A file naming <UDIM> (or <UVTILE>) reads one sampler per tile on
     disk: the tile under st, at st less the tile's corner; st on no tile reads the fallback."""
-    from ..resolve import resolve_file
-    from .handlers import _TILE_TOKENS, _default_value, _texture_file, _udim_tiles
+    from mtlxgen.base.resolve import resolve_file
+    from mtlxgen.nodes.handlers import _TILE_TOKENS, _default_value, _texture_file, _udim_tiles
     sampler, value, _ = _texture_file(node, em)
     tiles = _udim_tiles(node, em, sampler, value, None) if _TILE_TOKENS.search(value) else None
     if tiles:
