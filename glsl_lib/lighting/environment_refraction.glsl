@@ -31,7 +31,7 @@ vec3 mg_refraction_thin_shell(vec3 I, vec3 M, vec3 N, float ior)
     return dot(R2, R2) < 1.0e-8 ? reflect(R1, N) : R2;
 }
 
-// The sample loop of mg_env_refraction, once per Fresnel curve FRESNEL(fr, cosine), as MG_ENV_SPECULAR_SAMPLES: NAME
+// The sample loop of mg_env_refraction over the Fresnel curve FRESNEL(fr, cosine), as MG_ENV_SPECULAR_SAMPLES: NAME
 // returns the sum of the radiance transmitted through each sample's facet times its share w = 1 - F, and sets share
 // to the sum of the shares and reflected to the same samples' reflection as the node's reflection lobe weighs it
 // (F G2 / G1(v), as mg_env_specular), for the cap.
@@ -60,8 +60,7 @@ vec3 NAME(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_wa
     return sum; \
 }
 
-MG_ENV_REFRACTION_SAMPLES(mg_env_refraction_samples_film, mg_fresnel_film)
-MG_ENV_REFRACTION_SAMPLES(mg_env_refraction_samples_bare, mg_fresnel_base)
+MG_ENV_REFRACTION_SAMPLES(mg_env_refraction_samples, mg_fresnel_eval)
 
 // Transmitted environment radiance, times what the interface lets through. The rough transmission lobe
 // (Walter et al. 2007) is sampled by its microfacets: n visible normals m of the view (Heitz 2018), each
@@ -91,13 +90,8 @@ vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel
     Vt = normalize(Vt);
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
-    vec3 sum, share, reflected;
-#ifndef MG_NO_THIN_FILM
-    if (fr.film_thickness > 0.0)
-        sum = mg_env_refraction_samples_film(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);
-    else
-#endif
-        sum = mg_env_refraction_samples_bare(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);
+    vec3 share, reflected;
+    vec3 sum = mg_env_refraction_samples(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);
 #ifdef MG_REFRACTION_UNBOUNDED
     return sum / (float(n) * G1V);
 #else

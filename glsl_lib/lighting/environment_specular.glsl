@@ -39,13 +39,13 @@ vec3 mg_retro(vec3 Lt)
     return vec3(-Lt.xy, Lt.z);
 }
 
-// The sample loop of mg_env_specular, once per Fresnel curve FRESNEL(fr, cosine): NAME sums over n samples the
+// The sample loop of mg_env_specular over the Fresnel curve FRESNEL(fr, cosine): NAME sums over n samples the
 // reflected radiance times F G2 / G1(v), each read at the level of the reflected direction's density
-// D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v). mg_env_specular tests the lobe's thin film once and calls the film's copy
-// or the bare curve's: the thickness is a uniform, and where a pixel block runs both sides of a branch under a mask
-// (llvmpipe) a test inside the loop is paid by every sample. (One function of a constant flag would be inlined with
-// both curves in both copies before the flag folds: twice the compile. The backslashes are not aligned: a macro is
-// joined into one line, padding included, in every shader.)
+// D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v). One loop, whose curve tests the lobe's thin film per sample
+// (mg_fresnel_eval; the thickness is a uniform, so every pixel takes the same side): a film's copy of the loop
+// beside the bare curve's cost the GPU compilers 10% more instructions and compile time for no draw time gained on
+// llvmpipe (docs/measuring.md, 2026-11-27). (The backslashes are not aligned: a macro is joined into one line,
+// padding included, in every shader.)
 #define MG_ENV_SPECULAR_SAMPLES(NAME, FRESNEL) \
 vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, float G1V) \
 { \
@@ -65,8 +65,7 @@ vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, floa
     return sum; \
 }
 
-MG_ENV_SPECULAR_SAMPLES(mg_env_specular_samples_film, mg_fresnel_film)
-MG_ENV_SPECULAR_SAMPLES(mg_env_specular_samples_bare, mg_fresnel_base)
+MG_ENV_SPECULAR_SAMPLES(mg_env_specular_samples, mg_fresnel_eval)
 
 // Reflected environment radiance times the lobe's Fresnel and shadowing (without compensation).
 vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
@@ -79,13 +78,6 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
 #else
     int n = max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
-    vec3 sum;
-#ifndef MG_NO_THIN_FILM
-    if (fr.film_thickness > 0.0)
-        sum = mg_env_specular_samples_film(Vt, frame, alpha, fr, retro, n, G1V);
-    else
-#endif
-        sum = mg_env_specular_samples_bare(Vt, frame, alpha, fr, retro, n, G1V);
-    return sum / float(n);
+    return mg_env_specular_samples(Vt, frame, alpha, fr, retro, n, G1V) / float(n);
 #endif
 }

@@ -209,6 +209,29 @@ _ENVIRONMENT_DEFINES = {"fis": [], "prefiltered": ["MG_ENV_PREFILTERED", "MG_REF
 _OPAQUE_BSDF = "BSDF(vec3(0.0), vec3(0.0))"
 _OPAQUE_CONTEXTS = ("reflection", "indirect")
 
+# Guard policy (Emitter.closure): a lobe is skipped behind an `if` only where it samples the environment (these
+# files' loops, in the contexts that run them). Elsewhere the lobe costs a few instructions, and an `if` around it
+# costs GPU compilers more than it saves (a branch each, and no common subexpressions shared with the other
+# lobes: benchmarks/bench_gpu_compilers.py, docs/measuring.md): such a lobe is computed and then set to the empty
+# closure where its weight is below closureplan.ZERO_WEIGHT (a select, whatever its other inputs hold: 0/0 too);
+# a mix side its factor weighs 0 is computed to no effect, as MaterialX computes both sides.
+_SAMPLING_FILES = frozenset(("lighting/environment_specular.glsl", "lighting/environment_refraction.glsl"))
+_SAMPLING_CONTEXTS = ("indirect", "transmission")
+
+
+@functools.lru_cache(maxsize=None)
+def _requires_sampling(files):
+    """Whether glsl_lib files `files` (a tuple) pull in an environment sample loop (_SAMPLING_FILES)."""
+    seen, todo = set(), list(files)
+    while todo:
+        rel = todo.pop()
+        if rel in _SAMPLING_FILES:
+            return True
+        if rel not in seen:
+            seen.add(rel)
+            todo += read_lib_file(rel)[1]
+    return False
+
 
 # the GLSL spelling of each built-in type that has one, closures aside (Emitter.glsl_type notes those): what
 # mxtypes.glsl_type gives whatever the document's structs (a built-in name is never a struct's)
@@ -412,11 +435,15 @@ class Emitter:
         impl = self._closure_impls[src.node]           # (looked up by emit_node, which made it a closure node)
         saved, self.context = self.context, context
         zero = mxtypes.closure_zero(src.type)          # what the lobe is where it is not computed
+        unweighed = None        # a cheap lobe's weight condition: computed, then the empty closure where it fails
         try:
             cond = self.conditions.get(node.id)        # GLSL text; None: always; False: never (take_plan)
             if impl.closure is not None:
                 template = impl.closure.get(context)
                 expr = self.render(template, node, src.type) if template else zero
+                sampled = self._sampled(impl, context)
+                if not sampled and cond is not False:
+                    cond = None                         # (the guard policy above)
                 weight = node.inputs.get("weight")
                 if template and src.type == "BSDF" and weight is not None and weight.type == "float":
                     # a BSDF of (near) zero weight is the empty closure whatever its other inputs are
@@ -424,8 +451,11 @@ class Emitter:
                     weighed = closureplan.weighed(node.id)
                     if self.graph.static_guards:        # the reduced interface (fold.py)
                         weighed = closureplan.decide(weighed, self.closure_plan.literal_value)
-                    cond = closureplan.glsl(closureplan.conjoin(cond, weighed),               # "cond && weighed"
-                                            lambda node_id: {"weight": self.input_expr(node, "weight")})
+                    weighed = closureplan.glsl(weighed, lambda node_id: {"weight": self.input_expr(node, "weight")})
+                    if sampled or weighed is False:
+                        cond = closureplan.glsl(closureplan.conjoin(cond, weighed), None)       # "cond && weighed"
+                    elif cond is not False:
+                        unweighed = weighed
                     if impl.opaque and context in _OPAQUE_CONTEXTS:
                         # but a lobe that lets nothing through (a diffuse one) stays opaque at zero weight, black
                         # over what is under it, as MaterialX's: its throughput is 0 at every weight, so the
@@ -436,6 +466,8 @@ class Emitter:
             elif impl.outputs:
                 template = impl.outputs.get(src.output) or impl.outputs.get("*")
                 expr = self.render(template, node, src.type)
+                if not self._sampled(impl, context) and cond is not False:
+                    cond = None                         # a combinator (mix, layer, add...): the guard policy above
             else:
                 self.fail(node, "closure node without a closure implementation")
         finally:
@@ -447,6 +479,11 @@ class Emitter:
         w = self.writer
         if cond is None:
             w.line("%s %s = %s;" % (self.glsl_type(src.type), var, expr))
+            if unweighed is not None:
+                w.line("if (!(%s))" % unweighed)
+                w.depth += 1
+                w.line("%s = %s;" % (var, zero))
+                w.depth -= 1
         else:
             # the empty closure, replaced where the condition holds: a disabled lobe is never computed (an `if`,
             # not `?:`, whose struct operands WebGL's validator refuses though GLSL ES 3.00 allows them)
@@ -459,6 +496,12 @@ class Emitter:
             self.note_document_code(impl, self.body[first:])
         self.closure_vars[key] = var
         return var
+
+    @staticmethod
+    def _sampled(impl, context):
+        """Whether a closure node's evaluation in `context` is guarded (the guard policy, _SAMPLING_FILES): where
+        it samples the environment, or is a document's own code, whose cost is not known."""
+        return impl.source is not None or (context in _SAMPLING_CONTEXTS and _requires_sampling(tuple(impl.files)))
 
     def take_plan(self, root):
         """The closure plan's conditions for the closure nodes upstream of `root`, written as GLSL (None: always);

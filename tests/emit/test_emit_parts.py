@@ -61,7 +61,15 @@ def test_closure_planning_is_plain_data_over_the_graph(tmp_path):
                             lambda node_id: {"mix": "k"}) == "(k != 0.0) || (k != 1.0 && w)"
     factor = next(n for n in g.nodes if n.id == mix).inputs["mix"].uniform     # a public uniform at document level
     frag = emit.emit(g).fragment
-    # the emitter writes each lobe's planned condition, and the lobe's weight, as the `if` that computes it
+    # a lobe that does not sample the environment (a diffuse one) is computed unguarded (the emitter's guard
+    # policy), then made the empty closure where its weight is below closureplan.ZERO_WEIGHT
+    assert "%s != 0.0" % factor not in frag and "%s != 1.0" % factor not in frag
+    assert "if (!(a_weight >= 1.0e-6))" in frag and "if (!(b_weight >= 1.0e-6))" in frag
+    # one that samples it keeps its planned condition, and its weight, as the `if` that computes it
+    sampled = MIX.replace("oren_nayar_diffuse_bsdf", "dielectric_bsdf")
+    g = pipeline.Session(write_doc(tmp_path, sampled, name="sampled.mtlx")).graph("o")
+    factor = next(n for n in g.nodes if n.category == "mix").inputs["mix"].uniform
+    frag = emit.emit(g).fragment
     assert "if (%s != 0.0 && a_weight >= 1.0e-6)" % factor in frag
     assert "if (%s != 1.0 && b_weight >= 1.0e-6)" % factor in frag
     # a disjunction of uses, conjoined with a weight, keeps its brackets (&& binds tighter than ||)
