@@ -98,7 +98,7 @@ def test_three_fis_module_and_page_hold_no_prefilter(tmp_path):
     stem = write_module(tmp_path, "examples/quick_start.mtlx", "M_tiles")
     module = (tmp_path / (stem + ".js")).read_text(encoding="utf-8")
     assert "export const prefilter" not in module and "mg_env_prefilter_texel" not in module
-    with open(os.path.join(os.path.dirname(three.__file__), "web_assets", "three_example.html"), encoding="utf-8") as f:
+    with open(os.path.join(os.path.dirname(os.path.dirname(three.__file__)), "web_assets", "three_example.html"), encoding="utf-8") as f:
         template = f.read()
     page = (tmp_path / (stem + ".html")).read_text(encoding="utf-8")
     assert three.ENV_LINE in template and three.ENV_LINE in page and "prefilterEnvironment" not in page
