@@ -613,7 +613,7 @@ class Emitter:
             if entry is None:
                 if len(family.variants) >= functions.VARIANTS_MAX:
                     family.variants.clear()
-                body, _, _ = family.body(dict(fixed))
+                body = family.body(dict(fixed))[0] if fixed else family.generic
                 try:
                     entry = ("code", FunctionEmitter(body, family, family.name(fixed), self).emit_function())
                 except functions.CompileTime as e:

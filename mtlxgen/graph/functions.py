@@ -126,6 +126,7 @@ class Family:
         self.warnings = []
         body, warnings, builder_ = self.body({})
         self.warnings = warnings
+        self.generic = body             # the body with no input fixed: what most calls emit (not built twice)
         # the inputs the body reads: a call passes only those (an input no node of the implementation reads is no
         # uniform of the material, as where the implementation is expanded and pruned)
         self.reads = set(body.parameters) | set(statics)
