@@ -11,7 +11,6 @@ where the options are made, before any document is read. Light to import: nothin
 the emitter (the command line builds one for --help-free argument checking)."""
 import os
 from dataclasses import dataclass, fields, replace as _replace
-from typing import Optional
 
 from mtlxgen.base.diagnostics import Loc, MtlxError
 from mtlxgen.base.interface import LIGHTS_LIMIT
@@ -49,10 +48,10 @@ class GenerateOptions:
     environment: str = "fis"
     max_lights: int = 0
     strict: bool = False
-    usd_seed_rules: Optional[bool] = None
+    usd_seed_rules: object = None                   # bool or None
     library_dirs: tuple = ()
     variants: tuple = ()
-    render_context: Optional[str] = None
+    render_context: object = None                   # str or None
     unreadable_textures: str = "warning"
 
     def __post_init__(self):
