@@ -167,8 +167,10 @@ class OurGenerator:
             self.kept.setdefault(element, set()).add(uniform)
 
     def shader(self, session, name):
-        g = session.graph(name)
-        if self.specialize and not session.interface.reduced:
+        specialized = self.specialize and not session.interface.reduced
+        # the complete interface calls nodegraph implementations as functions, as `generate` writes it
+        g = session.graph(name, functions=not specialized and not session.interface.reduced)
+        if specialized:
             s = self._specialized(session, name, g)
         else:
             s = session.shader(name, graph=g)
