@@ -83,6 +83,7 @@ MODULE_MARKS = {
     "test_view": _WINDOW, "test_view_reload": _WINDOW, "test_view_isolated": _WINDOW,
     "test_web": _BROWSER, "test_three": _BROWSER,
     "test_golden::test_report_opens_in_headless_chromium": _BROWSER,
+    "test_manifest_schema::test_every_manifest_of_the_corpus_validates": _GL,
     "test_api::test_a_missing_dependency_is_one_line_naming_the_package": _GL,
     "test_api::test_render_a_shader_and_a_source_and_a_session": _GL,
     "test_api::test_the_host_example_draws_what_render_draws": _GL,
