@@ -55,7 +55,6 @@ class Session:
         self.element_notes = {}             # element name -> [(Loc, message)]: its textures that cannot be read
         self.unreadable = {}                # element name -> {sampler uniform}: those textures' uniforms
         self.texture_inputs = {}            # element name -> {sampler uniform: Loc of the input naming its file}
-        self._doc_names_unreadable = None   # _names_unreadable_textures(), once known
         try:
             self.doc = load_document(path, options.library_dirs, options.stage_options(path))
         except MtlxError as e:          # the document's warnings too, met before its problems
@@ -155,28 +154,12 @@ class Session:
                                  if t.get("file") and t.get("uniform") in inputs}
         return shader
 
-    def _names_unreadable_textures(self):
-        """Whether any filename input the document writes names a texture that cannot be read (once per session):
-        where none does, an element not built here (kept elements) has no texture notes."""
-        if self._doc_names_unreadable is None:
-            ports = list(self.doc.inputs.values())
-            for owner in list(self.doc.nodes.values()) + list(self.doc.nodegraphs.values()):
-                ports += owner.inputs.values()
-            for ng in self.doc.nodegraphs.values():
-                for node in ng.nodes.values():
-                    ports += node.inputs.values()
-            values = {p.value for p in ports if p.type == "filename"}
-            self._doc_names_unreadable = any(texture_problem(v, self.path) for v in values)
-        return self._doc_names_unreadable
-
     def notes(self, name=None):
         """Problems that leave an element drawn (a texture not found: its default or fallback is drawn); with no
         name, those of the stage as a whole. For a .mtlx document, those of an element already built (graph())."""
         if self.stage is None:
             if name is None:
                 return []
-            if name not in self.element_notes and self._names_unreadable_textures():
-                self.graph(name)        # not built here yet: built for its notes
             return list(self.element_notes.get(name, ()))
         if name is None:
             return list(self.stage.problems)
