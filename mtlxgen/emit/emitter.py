@@ -795,9 +795,7 @@ class Emitter:
             comment_text(g.element), comment_text(os.path.basename(g.doc_path))))
         if lit:
             frag.extend("#define " + d for d in _ENVIRONMENT_DEFINES[self.environment])
-        used = {s.type for n in g.nodes for s in n.inputs.values()} | {
-            t for n in g.nodes for t in n.outputs.values()} | {g.result.type} | {u.type for u in g.uniforms.values()} | \
-            self.function_types
+        used = node_types(g.nodes) | {g.result.type} | {u.type for u in g.uniforms.values()} | self.function_types
         frag += decl.uniforms("fragment", self.app_uniforms, list(g.uniforms.values()), used)
         frag += decl.varyings("in", list(self.streams.values()))
         frag.append("layout(location = 0) out vec4 out_color;")
@@ -906,8 +904,7 @@ class VertexStage:
         used = {u.type for u in self.material}
         if displacer is not None:
             g = em.graph
-            used |= {s.type for n in g.nodes if n.id in displacer.vars_owner for s in n.inputs.values()} | {
-                t for n in g.nodes if n.id in displacer.vars_owner for t in n.outputs.values()} | displacer.function_types
+            used |= node_types(n for n in g.nodes if n.id in displacer.vars_owner) | displacer.function_types
         lines += decl.uniforms("vertex", self.app_uniforms, self.material, used)
         lines += decl.varyings("out", list(em.streams.values()))
         body = ["    vec4 world_position = u_worldMatrix * vec4(i_position, 1.0);"]
@@ -1128,12 +1125,20 @@ class FunctionEmitter(Emitter):
             self.uses_closures = True
         text = "\n".join(["// %s" % comment_text("%s, from nodegraph %s" % (nd.name, self.family.impl.name)),
                           "void %s(%s)" % (self.name, ", ".join(decls)), "{"] + self.body + ["}"]) + "\n"
-        types = {s.type for n in g.nodes for s in n.inputs.values()} | {
-            t for n in g.nodes for t in n.outputs.values()} | {nd.inputs[name].type for name in g.parameters} | {
+        types = node_types(g.nodes) | {nd.inputs[name].type for name in g.parameters} | {
             nd.outputs[o].type for o in self.outputs} | self.function_types
         return FunctionCode(self.name, text, tuple(g.parameters), tuple(self.functions.values()), tuple(self.files),
                             frozenset(self.app_uniforms), dict(self.streams), dict(self.attributes), self.uses_closures,
                             frozenset(types), frozenset(self.paste_switches()))
+
+
+def node_types(nodes):
+    """The types the inputs and outputs of `nodes` carry (the struct declarations a stage needs)."""
+    used = set()
+    for n in nodes:
+        used.update(s.type for s in n.inputs.values())
+        used.update(n.outputs.values())
+    return used
 
 
 def function_texts(codes):
