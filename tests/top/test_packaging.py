@@ -6,6 +6,7 @@ a .pth file naming this environment's site-packages (their own .pth files, this 
 them, are not run from there). The picture it draws is the golden image's.
 
 Marked `packaging` (about 30 s on 2 cores; `-m "not packaging"` leaves it out)."""
+import fcntl
 import json
 import os
 import re
@@ -67,9 +68,21 @@ def dist(tmp_path_factory):
     reason = _missing_build_tools()
     if reason:
         pytest.skip(reason)
-    out = tmp_path_factory.mktemp("dist")
-    # sdist first, then the wheel from the unpacked sdist (build's default); no isolation: nothing downloaded
-    _run([sys.executable, "-m", "build", "--no-isolation", "--outdir", str(out), ROOT], cwd=ROOT)
+    # One build per session: under xdist each worker runs this fixture, and builds running at once in the same
+    # checkout race on its build folders (mtlxgen-0.1.0/, build/). The first worker builds into a folder all
+    # workers share (the session's temporary root); the others wait on the lock and take its result.
+    shared = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        shared = shared.parent
+    out = shared / "packaging-dist"
+    with open(shared / "packaging-dist.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (out / "done").exists():
+            shutil.rmtree(out, ignore_errors=True)
+            out.mkdir()
+            # sdist first, then the wheel from the unpacked sdist (build's default); no isolation: nothing downloaded
+            _run([sys.executable, "-m", "build", "--no-isolation", "--outdir", str(out), ROOT], cwd=ROOT)
+            (out / "done").write_text("")
     wheels = sorted(out.glob("*.whl"))
     sdists = sorted(out.glob("*.tar.gz"))
     assert len(wheels) == 1 and len(sdists) == 1, os.listdir(out)
