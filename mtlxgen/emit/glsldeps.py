@@ -436,7 +436,9 @@ def split(text, rel="<glsl>"):
 # a shader holds the branch its switch set selects, without the directive lines, and nothing that only the dropped
 # branch reaches. Library code pasted by hand (emit.lib_source) keeps the directives, the names undefined.
 #   MG_NO_THIN_FILM  no closure of the shader has a thin film (every thinfilm_thickness a literal <= 0)
-SWITCHES = ("MG_NO_THIN_FILM",)
+#   MG_ENV_PREFILTERED, MG_REFRACTION_PREFILTERED  the environment method is the split sum (--environment
+#                    prefiltered; emit.ENVIRONMENT_SWITCHES): a fis shader holds none of its code
+SWITCHES = ("MG_NO_THIN_FILM", "MG_ENV_PREFILTERED", "MG_REFRACTION_PREFILTERED")
 _DIRECTIVE = re.compile(r"\s*#\s*(ifdef|ifndef|if|else|elif|endif)\b\s*(\w*)")
 
 

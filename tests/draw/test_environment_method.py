@@ -43,7 +43,7 @@ def test_prefiltered_shader_is_marked(tmp_path):
     path = write_doc(tmp_path, DOC.format(metal=1.0, rough=0.3, transmission=0.0))
     (fis,) = pipeline.generate(path, elements=["m"])
     (pre,) = pipeline.generate(path, elements=["m"], environment="prefiltered")
-    assert "#define MG_ENV_PREFILTERED" in pre.fragment and "#define MG_ENV_PREFILTERED" not in fis.fragment
+    assert "mg_env_prefiltered_lobe(" in pre.fragment and "mg_env_prefiltered_lobe" not in fis.fragment
     assert fis.manifest["environment"] == "fis" and pre.manifest["environment"] == "prefiltered"
 
 
@@ -98,4 +98,4 @@ def test_cli_option_writes_prefiltered_shaders(tmp_path):
                         "--environment", "prefiltered"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert json.loads((out / "m.json").read_text())["environment"] == "prefiltered"
-    assert "#define MG_ENV_PREFILTERED" in (out / "m.frag").read_text()
+    assert "mg_env_prefiltered_lobe(" in (out / "m.frag").read_text()

@@ -343,7 +343,7 @@ SWITCH_TEXT = """a
 #else
     bare();
 #endif
-#ifdef MG_ENV_PREFILTERED
+#ifdef MG_REFRACTION_UNBOUNDED
     p();
 #endif
 b"""
@@ -352,11 +352,11 @@ b"""
 def test_paste_switch_groups_resolve_both_ways_and_other_groups_pass_through():
     on = glsldeps.resolve_switches(SWITCH_TEXT, {"MG_NO_THIN_FILM"})
     off = glsldeps.resolve_switches(SWITCH_TEXT, set())
-    assert on.split() == ["a", "bare();", "#ifdef", "MG_ENV_PREFILTERED", "p();", "#endif", "b"]
+    assert on.split() == ["a", "bare();", "#ifdef", "MG_REFRACTION_UNBOUNDED", "p();", "#endif", "b"]
     assert off.split() == ["a", "film();", "#ifdef", "OTHER", "other();", "#endif",
-                           "#ifdef", "MG_ENV_PREFILTERED", "p();", "#endif", "b"]
-    assert glsldeps.resolve_switches("x\n#ifdef MG_ENV_PREFILTERED\ny\n#endif", {"MG_NO_THIN_FILM"}) == \
-        "x\n#ifdef MG_ENV_PREFILTERED\ny\n#endif"
+                           "#ifdef", "MG_REFRACTION_UNBOUNDED", "p();", "#endif", "b"]
+    assert glsldeps.resolve_switches("x\n#ifdef MG_REFRACTION_UNBOUNDED\ny\n#endif", {"MG_NO_THIN_FILM"}) == \
+        "x\n#ifdef MG_REFRACTION_UNBOUNDED\ny\n#endif"
 
 
 FILM_DOC = """<?xml version="1.0"?>
