@@ -150,6 +150,36 @@ def read_lib_file(rel):
     return _FILE_CACHE[rel]
 
 
+# required_closure's results, per process: rel -> (files, application uniforms); one entry per glsl_lib file
+_CLOSURES = {}
+
+
+def required_closure(rel):
+    """(the glsl_lib files `rel` requires, directly or not, then `rel`: each after what it requires, a tuple; the
+    application uniforms they read, a frozenset). A file's closure is its requirements' closures then itself, so a
+    stage that required a file before holds that file's whole closure, and pasting a closure's files not yet
+    required in order is the depth-first walk from what the stage holds."""
+    entry = _CLOSURES.get(rel)
+    if entry is None:
+        files, seen, uniforms = [], set(), set()
+
+        def walk(r):
+            if r in seen:
+                return
+            seen.add(r)
+            try:
+                _, deps = read_lib_file(r)
+            except OSError:
+                raise RuntimeError("glsl_lib file missing: %s" % r) from None
+            for d in deps:
+                walk(d)
+            uniforms.update(lib_file_uniforms(r))
+            files.append(r)
+        walk(rel)
+        entry = _CLOSURES[rel] = (tuple(files), frozenset(uniforms))
+    return entry
+
+
 def lib_file_uniforms(rel):
     """The application uniforms glsl_lib file `rel` reads (its `// uniforms:` header)."""
     read_lib_file(rel)
@@ -197,6 +227,8 @@ def lib_source(rels, target="glsl"):
 # library_code's pasted sections, per process: (rel, the code used_code kept, compact) -> the text pasted
 _SECTIONS = {}
 _SECTIONS_MAX = 4096
+# library_code's files with their switches resolved, per process: (files, their texts, switches) -> ((rel, text), ...)
+_SWITCHED_FILES = {}
 
 
 # How environment light is integrated (CLI --environment): "fis" samples each lobe (Krivanek & Colbert 2008),
@@ -237,6 +269,13 @@ def _requires_sampling(files):
 # the GLSL spelling of each built-in type that has one, closures aside (Emitter.glsl_type notes those): what
 # mxtypes.glsl_type gives whatever the document's structs (a built-in name is never a struct's)
 _SPELLING = {name: info.glsl for name, info in mxtypes.BUILTIN.items() if info.glsl and not info.closure}
+
+
+# uniform_parts' literals of built-in types, per process: (type, value) -> GLSL literal (what it depends on: the two)
+_LITERALS = {}
+_LITERALS_MAX = 1 << 16
+_LITERAL_SPELLING = {t: _SPELLING[t] for t in ("float", "integer", "boolean", "color3", "color4", "vector2", "vector3",
+                                               "vector4", "matrix33", "matrix44")}
 
 
 def _at_most_zero(value):
@@ -295,18 +334,17 @@ class Emitter:
         raise MtlxError((node.loc, "node '%s' (%s): %s" % (node.id, node.nodedef.name, message)))
 
     def require(self, rel):
+        """The stage pastes glsl_lib file `rel`: it and the files it requires (before it), those not yet required,
+        and the application uniforms they read."""
         if rel in self._required:
             return
-        try:
-            _, deps = read_lib_file(rel)
-        except OSError:
-            raise RuntimeError("glsl_lib file missing: %s" % rel) from None
-        for d in deps:
-            self.require(d)
-        self.app_uniforms.update(lib_file_uniforms(rel))
-        if rel not in self._required:
-            self._required.add(rel)
-            self.files.append(rel)
+        files, uniforms = required_closure(rel)
+        required = self._required
+        for f in files:                 # a file required before brought what it requires (closures are post-order)
+            if f not in required:
+                required.add(f)
+                self.files.append(f)
+        self.app_uniforms.update(uniforms)
 
     def app_uniform(self, name):
         """An application uniform (interface.md) the fragment stage reads."""
@@ -636,10 +674,12 @@ class Emitter:
         for callee in code.callees:
             self.use_function(callee)
         self.functions[code.name] = code
-        for f in code.files:
-            if f not in self._required:
-                self.require(f)
-        self.app_uniforms.update(code.app_uniforms)
+        required = self._required
+        for f in code.required:             # (require's walk, read once per function)
+            if f not in required:
+                required.add(f)
+                self.files.append(f)
+        self.app_uniforms.update(code.app_uniforms)     # (those of its files too: FunctionEmitter.require)
         for name, stream in code.streams.items():
             self.streams.setdefault(name, stream)
         for name, t in code.attributes.items():
@@ -709,6 +749,23 @@ class Emitter:
     def uniform_parts(self, u):
         """(GLSL type, array length or 0, GLSL initializer or None) of one of the material's uniforms."""
         t = u.type
+        spelling = _LITERAL_SPELLING.get(t)
+        if spelling is not None:        # a built-in type of one value: the literal kept per value
+            key = (t, u.value)
+            try:
+                literal = _LITERALS.get(key)
+            except TypeError:           # a value not hashable (a list): spelt each time
+                key = literal = None
+            if literal is None:
+                try:
+                    literal = mxtypes.glsl_literal(t, u.value)
+                except mxtypes.ValueError_ as e:
+                    raise MtlxError((u.loc, "input '%s': %s" % (u.name, e))) from None
+                if key is not None:
+                    if len(_LITERALS) >= _LITERALS_MAX:
+                        _LITERALS.clear()
+                    _LITERALS[key] = literal
+            return spelling, 0, literal
         try:
             if t == "filename":
                 return "sampler2D", 0, None
@@ -735,8 +792,15 @@ class Emitter:
         """The sections ("// ---- glsl_lib/REL", code) of the glsl_lib files `files` that the texts `roots` (and the
         identifiers `known`) reach, the paste switches resolved for this shader (glsldeps.SWITCHES: paste_switches()
         and its environment method's), compacted in a reduced shader."""
-        switches = self.paste_switches() | ENVIRONMENT_SWITCHES[self.environment]
-        texts = [(r, glsldeps.resolve_switches(read_lib_file(r)[0], switches)) for r in files]
+        switches = frozenset(self.paste_switches() | ENVIRONMENT_SWITCHES[self.environment])
+        raw = tuple(read_lib_file(r)[0] for r in files)
+        key = (tuple(files), raw, switches)     # (a str keeps its hash: the texts are hashed once)
+        texts = _SWITCHED_FILES.get(key)
+        if texts is None:
+            if len(_SWITCHED_FILES) >= _SECTIONS_MAX:
+                _SWITCHED_FILES.clear()
+            texts = _SWITCHED_FILES[key] = tuple((r, glsldeps.resolve_switches(t, switches))
+                                                 for r, t in zip(files, raw))
         out = []
         for rel, text in glsldeps.used_code(texts, roots, known):
             key = (rel, text, self.compact)
@@ -795,11 +859,12 @@ class Emitter:
         frag = decl.preamble("// %s: generated by mtlxgen from %s" % (
             comment_text(g.element), comment_text(os.path.basename(g.doc_path))))
         used = node_types(g.nodes) | {g.result.type} | {u.type for u in g.uniforms.values()} | self.function_types
-        frag += decl.uniforms("fragment", self.app_uniforms, list(g.uniforms.values()), used)
-        frag += decl.varyings("in", list(self.streams.values()))
-        frag.append("layout(location = 0) out vec4 out_color;")
-        frag.append("")
-        roots = frag + self.body + [out_expr]
+        own = decl.uniforms("fragment", self.app_uniforms, list(g.uniforms.values()), used)
+        tail = decl.varyings("in", list(self.streams.values())) + ["layout(location = 0) out vec4 out_color;", ""]
+        # what glsl_lib code the stage needs is read from its text but the material's own uniform declarations (a
+        # built-in type, the uniform's name, a literal: nothing a glsl_lib file defines), one per public input
+        roots = frag + own[:len(own) - decl.material_lines] + tail + self.body + [out_expr]
+        frag += own + tail
         joined = "\n".join(roots)          # one text to scan, not one per line (a `/*` may span lines: then each)
         roots = ([joined] if "/*" not in joined else roots) + [text for _, text in self.external]
         frag += self.library_code(self.files, roots, function_identifiers(self.functions))
@@ -837,6 +902,15 @@ class Emitter:
         return Shader(g.element, vertex.text(decl), fragment, manifest, document_code=code)
 
     def manifest_uniform(self, u, decl=None):
+        t = u.type
+        spelling = _LITERAL_SPELLING.get(t)
+        if spelling is not None:            # a built-in type of one value (most): no struct, no array
+            v = u.value
+            entry = {"name": u.name, "type": spelling, "mtlx_type": t,
+                     "value": manifest_value(v) if type(v) is tuple else v}
+            if decl is not None and decl.offsets:
+                entry.update(decl.member_fields(u.name))
+            return entry
         entry = {"name": u.name, "type": self.uniform_type(u), "mtlx_type": u.type, "value": manifest_value(u.value)}
         if u.type in self.graph.structs:
             entry["members"] = [{"name": mn, "type": mxtypes.glsl_type(mt, self.graph.structs)}
@@ -940,6 +1014,7 @@ class Declarations:
         app_samplers = sorted(n for n in self.app_names if interface.TABLE[n].type in interface.SAMPLER_TYPES)
         samplers = app_samplers + [u.name for u in material if u.type == "filename"]
         self.bindings, self.block, self.offsets, self.block_size = {}, [], {}, 0
+        self.material_lines = 0     # uniforms(): how many of its last lines declare the material's uniforms
         if self.target.uniform_block:
             self.bindings = {name: i + 1 for i, name in enumerate(samplers)}
             for name in sorted(self.app_names):
@@ -975,6 +1050,7 @@ class Declarations:
         if not self.target.uniform_block:
             lines = self.struct_lines(used_types)
             lines += interface_declarations(app_names, self.target.name, self.em.max_lights)
+            self.material_lines = len(material)     # the last lines: the material's uniforms
             for u in material:
                 t, length, init = self.em.uniform_parts(u)
                 suffix = "[%d]" % length if length else ""
@@ -1081,6 +1157,15 @@ class FunctionCode:
     def identifiers(self):
         """The identifiers its text uses (glsldeps.identifiers), read once."""
         return frozenset(glsldeps.identifiers(self.text))
+
+    @functools.cached_property
+    def required(self):
+        """The glsl_lib files its body needs with what they require (required_closure), each after what it
+        requires, once each."""
+        out = {}
+        for f in self.files:
+            out.update(dict.fromkeys(required_closure(f)[0]))
+        return tuple(out)
 
 
 class FunctionEmitter(Emitter):

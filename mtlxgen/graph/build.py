@@ -21,6 +21,8 @@ from mtlxgen.graph.graphtypes import (IDENTIFIER_CHARS, GNode, Graph, Origin, So
 from mtlxgen.read.renamed_inputs import renamed_input_message
 
 # a float port connected to one of these reads its first component (Builder.first_component)
+# types a public input of which is no uniform (compile-time values)
+_NO_UNIFORM = frozenset(("string", "geomname", "stringarray"))
 _FIRST_COMPONENT = {"color3": "r", "color4": "r", "vector2": "x", "vector3": "x", "vector4": "x"}
 
 
@@ -351,22 +353,25 @@ class GraphBuilder:
         authored: the document writes the input (default: `port` is not `declared`, the nodedef's own)."""
         if port.error:
             raise MtlxError((port.loc, port.error))
-        self.note_value(port if port.value is not None or port.warning else declared)   # value="": its warning
-        value = port.value if port.value is not None else declared.value
+        value = port.value
+        if value is None or port.warning:
+            self.note_value(port if value is not None or port.warning else declared)   # value="": its warning
         if value is None:
-            value = mxtypes.zero(declared.type, self.lib.structs)
+            value = declared.value
+            if value is None:
+                value = mxtypes.zero(declared.type, self.lib.structs)
         t = declared.type
-        colorspace = port.colorspace or declared.colorspace
-        if t in ("string", "geomname", "stringarray") or mxtypes.is_closure(t):
+        if t in _NO_UNIFORM or t in mxtypes.CLOSURE_NAMES:
             return Source(t, value=value, loc=port.loc)
-        name = self.add_uniform("%s_%s" % (owner, declared.name), t, value, port.loc,
-                                colorspace if t == "filename" else None)
-        u = self.uniforms[name]
-        u.marked = bool(port.uniform or declared.uniform)
-        if element is not None:
-            u.origin = Origin(element, declared.name, port is not declared if authored is None else authored)
-        return Source(t, value=value, uniform=name, colorspace=colorspace if t == "filename" else None,
-                      unit=port.unit or declared.unit, unittype=port.unittype or declared.unittype, loc=port.loc)
+        colorspace = (port.colorspace or declared.colorspace) if t == "filename" else None
+        loc = port.loc
+        name = unique_identifier("%s_%s" % (owner, declared.name), self.used_ids)
+        u = self.uniforms[name] = Uniform(name, t, value, loc, colorspace, None, bool(port.uniform or declared.uniform),
+                                          None if element is None else
+                                          Origin(element, declared.name,
+                                                 port is not declared if authored is None else authored))
+        return Source(t, value, name, None, None, colorspace, port.unit or declared.unit,
+                      port.unittype or declared.unittype, loc)
 
     def color_managed(self, src, port, scope, stem):
         """A node's colour input converted from its active colour space (its own `colorspace`, else its

@@ -4,6 +4,7 @@ Plain dataclasses (Source, GNode, Uniform, Graph) and the GLSL identifier rules 
 uniforms their names (glsl_identifier, unique_identifier). A leaf: it knows no document reader, no node
 table and no target, so both sides of the pipeline can share it without importing each other.
 """
+from collections import namedtuple
 from dataclasses import dataclass, field
 
 from mtlxgen.base.diagnostics import Loc
@@ -47,15 +48,13 @@ class GNode:
     function: object = None           # functions.Function: the node calls its nodegraph implementation's function
 
 
-@dataclass(frozen=True, slots=True)
-class Origin:
-    """Where a public uniform comes from in the document: the input `input` of the element at name path `element`
-    (a node at the document's level "N", a node in a nodegraph "NG/N", a nodegraph's own input "NG", the document's
-    top-level inputs ""). authored: the document writes the input (else its value is the nodedef's default). The
-    viewer's value edits and the write-back (docedit.py) find the input from here."""
-    element: str
-    input: str
-    authored: bool = True
+Origin = namedtuple("Origin", "element input authored", defaults=(True,))
+Origin.__doc__ = (
+    "Where a public uniform comes from in the document: the input `input` of the element at name path `element` (a "
+    "node at the document's level \"N\", a node in a nodegraph \"NG/N\", a nodegraph's own input \"NG\", the "
+    "document's top-level inputs \"\"). authored: the document writes the input (else its value is the nodedef's "
+    "default). The viewer's value edits and the write-back (docedit.py) find the input from here. A named tuple: one "
+    "is made for each public uniform of every element.")
 
 
 @dataclass(slots=True)
