@@ -6,7 +6,10 @@
                   camera moves: one lookup a lobe), screenshots. Draws with render.Renderer (prepare/draw:
                   the same binding code as `mtlxgen render`) into a float framebuffer and presents it.
     Reloader      generation off the drawing thread: the document re-read, the shown element regenerated,
-                  problems collected; the drawing thread compares the text and relinks only what changed.
+                  problems collected; the drawing thread compares the text and relinks only what changed. Then,
+                  for a lit fis shader linked, its prefiltered variant (the generator's moving_shader: the same
+                  element and options, --environment prefiltered), which the camera's moves draw once it is
+                  there (the fis program until then).
     Watcher       watchdog on the document, its includes, textures, the light rig and the environment map.
     GlfwWindow    a window (glfw) feeding mouse and keys to the Viewer; OffscreenWindow: a framebuffer in a
                   headless context for --headless-frames without a display.
@@ -22,6 +25,7 @@ Our generator specializes each shader on the inputs at zero (OurGenerator.specia
 keeping every other input a uniform; a zero-weight lobe is left out of the code), so it compiles and draws
 faster; an input moved off zero (by an edit or the panel) is kept a uniform from then on.
 """
+import copy
 import os
 import sys
 import threading
@@ -226,6 +230,17 @@ class OurGenerator:
     def warnings(self, session):
         return session.warning_list.lines()
 
+    def moving_shader(self, session, name):
+        """Element `name` generated as shader() does, with the split sum (environment "prefiltered"): the variant the
+        viewer draws while the camera moves. The same uniforms as the fis shader() under the same kept inputs (the
+        two methods differ in glsl_lib code only)."""
+        from mtlxgen.base.diagnostics import Warnings
+        variant = copy.copy(session)      # the document, libraries and elements read once: only the method differs
+        variant.environment = "prefiltered"
+        variant.options = session.options.replace(environment="prefiltered")
+        variant.warnings = Warnings()     # (said with the fis shader's)
+        return self.shader(variant, name)
+
 
 @dataclass
 class Reload:
@@ -245,8 +260,17 @@ class Reload:
     data: bytes = None                  # the document's bytes it was parsed from
 
 
+@dataclass
+class Moving:
+    """The prefiltered variant the reloader made of a fis shader (Reloader.request_moving)."""
+    element: str
+    fis: object                         # the fis Generated it was asked for
+    generated: object = None            # its prefiltered Generated; None: the generator could not (fis drawn)
+
+
 class Reloader:
-    """Generates on a thread of its own so the window keeps drawing; one request at a time, the latest wins."""
+    """Generates on a thread of its own so the window keeps drawing; one request at a time, the latest wins.
+    Prefiltered variants (request_moving) are made when no reload waits, each element's latest request only."""
 
     def __init__(self, generator, path, wake=None):
         self.generator = generator
@@ -255,8 +279,10 @@ class Reloader:
         self._lock = threading.Lock()
         self._wake = threading.Condition(self._lock)
         self._request = None
+        self._moving = {}                   # element -> (session, the fis Generated): variants to make
         self._done = []
-        self._busy = False
+        self._busy = False                  # a reload being generated
+        self._working = False               # anything being generated (a reload or a variant)
         self._stop = False
         self._thread = threading.Thread(target=self._run, name="mtlxgen-view-reload", daemon=True)
         self._thread.start()
@@ -266,10 +292,27 @@ class Reloader:
             self._request = (element, environment, changed_at)
             self._wake.notify()
 
-    def busy(self):
-        """A request waiting, being generated, or its result not yet taken (results())."""
+    def request_moving(self, element, session, fis):
+        """Make the prefiltered variant of `fis` (element's Generated, from `session`) when no reload waits."""
         with self._lock:
-            return self._busy or self._request is not None or bool(self._done)
+            self._moving[element] = (session, fis)
+            self._wake.notify()
+
+    def busy(self):
+        """A reload waiting, being generated, or its result not yet taken (results()); variants do not count."""
+        with self._lock:
+            return self._busy or self._request is not None or any(isinstance(d, Reload) for d in self._done)
+
+    def idle(self, timeout=None):
+        """Wait until nothing waits or is being generated (reloads and variants); False on timeout."""
+        end = None if timeout is None else time.monotonic() + timeout
+        with self._lock:
+            while self._working or self._request is not None or self._moving:
+                left = None if end is None else end - time.monotonic()
+                if left is not None and left <= 0:
+                    return False
+                self._wake.wait(left)
+            return True
 
     def results(self):
         with self._lock:
@@ -285,21 +328,42 @@ class Reloader:
     def _run(self):
         while True:
             with self._lock:
-                while self._request is None and not self._stop:
+                while self._request is None and not self._moving and not self._stop:
                     self._wake.wait()
                 if self._stop:
                     return
-                request, self._request = self._request, None
-                self._busy = True
+                moving = None
+                if self._request is not None:               # a reload first: the variants are for what it drew
+                    request, self._request = self._request, None
+                    self._busy = True
+                else:
+                    element = next(iter(self._moving))
+                    moving = (element,) + self._moving.pop(element)
+                self._working = True
             try:
-                result = self.generate(*request)
+                result = self.generate(*request) if moving is None else self.generate_moving(*moving)
             except Exception as e:          # a bug of ours: shown as a problem, the window stays up
-                result = Reload(problems=["%s: internal error: %s: %s" % (self.path, type(e).__name__, e)])
+                if moving is not None:
+                    result = Moving(moving[0], moving[2])
+                else:
+                    result = Reload(problems=["%s: internal error: %s: %s" % (self.path, type(e).__name__, e)])
             with self._lock:
                 self._done.append(result)
-                self._busy = False
+                self._busy = self._working = False
+                self._wake.notify_all()
             if self.wake is not None:
                 self.wake()
+
+    def generate_moving(self, element, session, fis):
+        """Moving: the prefiltered variant of `fis`; none where the generator makes none or meets a problem (the
+        document changed under it: a reload follows)."""
+        make = getattr(self.generator, "moving_shader", None)
+        if make is None:
+            return Moving(element, fis)
+        try:
+            return Moving(element, fis, make(session, element))
+        except MtlxError:
+            return Moving(element, fis)
 
     def generate(self, element, environment, changed_at=0.0):
         r = Reload(started=time.perf_counter(), changed_at=changed_at, environment=environment)
@@ -514,6 +578,8 @@ class Loaded:
                                                      # then those value edits set)
     edited: set = field(default_factory=set)         # uniforms value edits set since the text was generated
     moving: object = None               # the prefiltered variant drawn while the camera moves (Viewer.moving_prepared)
+    moving_generated: object = None     # its Generated, from the reloader (Viewer.apply_moving)
+    moving_asked: object = None         # the Generated whose variant was asked for (asked once each)
 
     def release(self):
         self.prepared.release()
@@ -762,7 +828,38 @@ class Viewer:
         for k, v in overrides.items():
             set_uniform(prepared.prog, k, v)
         self.loaded[name] = Loaded(g, prepared, overrides=overrides, values=manifest_values(g))
+        self._ask_moving(name, self.loaded[name])
         return "%s: linked" % name
+
+    @staticmethod
+    def _sampled(loaded):
+        """A lit fis shader: the environment sampled (its program reads u_envRadianceSamples)."""
+        return loaded.generated.manifest.get("environment") == "fis" and "u_envRadianceSamples" in loaded.prepared.prog
+
+    def _ask_moving(self, name, loaded):
+        """Have the reloader generate the prefiltered variant of a lit fis shader, once per text linked."""
+        if self.moving_prefiltered and self.session is not None and self._sampled(loaded) \
+                and loaded.moving_asked is not loaded.generated and hasattr(self.generator, "moving_shader"):
+            loaded.moving_asked = loaded.generated
+            self.reloader.request_moving(name, self.session, loaded.generated)
+
+    def apply_moving(self, m):
+        """Take a prefiltered variant: kept for its element where the shader drawn is still the one it was made
+        for (or differs from it in initial values only) and it declares the same uniforms; linked at the next
+        moving frame (moving_prepared). Nothing redrawn."""
+        loaded = self.loaded.get(m.element)
+        if loaded is None or m.generated is None:
+            return
+        g = loaded.generated
+        same = m.fis is g or (m.fis.vertex == g.vertex and self._same_bindings(m.fis, g)
+                              and skeleton(m.fis.fragment) == skeleton(g.fragment))
+        names = lambda x: sorted(u.get("name") for u in x.manifest.get("uniforms", ()))
+        if not same or names(m.generated) != names(g) or not self._same_bindings(m.generated, g):
+            return
+        if loaded.moving is not None:
+            loaded.moving.release()
+            loaded.moving = None
+        loaded.moving_generated = m.generated
 
     def unfold(self, uniform, value):
         """The panel set an input the specialized shader folded: kept a uniform from now on, the element
@@ -798,7 +895,10 @@ class Viewer:
     def poll(self):
         """Take finished reloads and file changes (called by frame())."""
         for r in self.reloader.results():
-            self.apply(r)
+            if isinstance(r, Moving):
+                self.apply_moving(r)
+            else:
+                self.apply(r)
         if self.watcher is None:
             return
         changed = self.watcher.changed()
@@ -1077,18 +1177,20 @@ class Viewer:
         self.accumulated = k + 1
 
     def moving_prepared(self, loaded):
-        """The prefiltered variant of a lit fis shader (environment.prefiltered_variant: the same text with the split
-        sum's defines), linked at the first camera move and kept with the element's program, its uniforms given the
-        program's values before each draw (panel and value edits included). None where the element is unlit or
-        already prefiltered."""
-        if loaded.generated.manifest.get("environment") != "fis" or "u_envRadianceSamples" not in loaded.prepared.prog:
+        """The prefiltered variant of a lit fis shader (the generator's moving_shader, generated off the drawing
+        thread by the reloader: the same element and options, environment "prefiltered"), linked at the first
+        camera move once it is there and kept with the element's program, its uniforms given the program's values
+        before each draw (panel and value edits included). None where the element is unlit or already prefiltered,
+        or while its variant is not there yet (the fis program draws the moving frames)."""
+        if not self._sampled(loaded):
             return None
         if loaded.moving is None:
-            from mtlxgen.draw.environment import prefiltered_variant
-            g = loaded.generated
+            g = loaded.moving_generated
+            if g is None:
+                self._ask_moving(self.element, loaded)
+                return None
             try:
-                loaded.moving = self.renderer.prepare(g.vertex, prefiltered_variant(g.fragment),
-                                                      dict(g.manifest, environment="prefiltered"))
+                loaded.moving = self.renderer.prepare(g.vertex, g.fragment, g.manifest)
             except Exception:           # the driver refused it: the fis program draws the moving frames
                 self.moving_prefiltered = False
                 return None

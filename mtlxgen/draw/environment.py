@@ -321,11 +321,3 @@ class Prefilter:
     def release(self):
         self.vao.release()
         self.prog.release()
-
-
-def prefiltered_variant(fragment):
-    """The fragment of a lit fis shader made the prefiltered one: the defines `--environment prefiltered` writes,
-    after the #version line (the two shaders differ in nothing else: glsl_lib code is pasted for both methods)."""
-    from mtlxgen.emit.emitter import _ENVIRONMENT_DEFINES
-    first, _, rest = fragment.partition("\n")
-    return "\n".join([first] + ["#define " + d for d in _ENVIRONMENT_DEFINES["prefiltered"]] + [rest])
