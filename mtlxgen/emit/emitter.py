@@ -307,6 +307,9 @@ class Emitter:
         self.vars = {}                # (node id, output) -> GLSL expression
         self.writer = StageWriter()   # main's statements
         self.body = self.writer.lines
+        # main's lines that hold no name a glsl_lib file defines (calls of the stage's functions: their arguments
+        # are variables, uniforms and literals), left out of the scan for the library code the stage needs
+        self.unscanned = set()
         self.names = set(graph.uniforms) | set(graph.structs)   # a variable must not hide a struct type
         self.textures = {}            # sampler uniform -> extra manifest fields
         self.primvars = []            # manifest "primvars": readers of named geometry primvars (nodes/usd.py)
@@ -637,6 +640,7 @@ class Emitter:
             args.append(var)
             self.vars[(node.id, oname)] = var
         self.line("%s(%s);" % (code.name, ", ".join(args)))
+        self.unscanned.add(self.body[-1])   # the call: names and literals, nothing a glsl_lib file defines
 
     def settings(self):
         """What a function's emitted text depends on besides its body."""
@@ -861,13 +865,19 @@ class Emitter:
         used = node_types(g.nodes) | {g.result.type} | {u.type for u in g.uniforms.values()} | self.function_types
         own = decl.uniforms("fragment", self.app_uniforms, list(g.uniforms.values()), used)
         tail = decl.varyings("in", list(self.streams.values())) + ["layout(location = 0) out vec4 out_color;", ""]
-        # what glsl_lib code the stage needs is read from its text but the material's own uniform declarations (a
-        # built-in type, the uniform's name, a literal: nothing a glsl_lib file defines), one per public input
-        roots = frag + own[:len(own) - decl.material_lines] + tail + self.body + [out_expr]
-        frag += own + tail
+        # What glsl_lib code the stage needs is read from its text: the declarations (the same for materials alike:
+        # their identifiers kept per text), main, a document's GLSL. Left out: the comment naming the element, the
+        # material's own uniform declarations (a built-in type, the uniform's name, a literal: nothing a glsl_lib
+        # file defines) and the calls of functions (self.unscanned).
+        head = [line for line in frag if not line.startswith("// ")] + own[:len(own) - decl.material_lines] + tail
+        known = declaration_identifiers("\n".join(head)) | function_identifiers(self.functions)
+        unscanned = self.unscanned
+        roots = [line for line in self.body if line not in unscanned] + [out_expr] if unscanned else \
+            self.body + [out_expr]
         joined = "\n".join(roots)          # one text to scan, not one per line (a `/*` may span lines: then each)
         roots = ([joined] if "/*" not in joined else roots) + [text for _, text in self.external]
-        frag += self.library_code(self.files, roots, function_identifiers(self.functions))
+        frag += own + tail
+        frag += self.library_code(self.files, roots, known)
         for path, text in self.external:
             frag.append("// ---- %s" % comment_text(os.path.basename(path)))
             frag.append(text.rstrip() + "\n")
@@ -888,9 +898,7 @@ class Emitter:
             "attributes": dict(vertex.attributes),
             "uniforms": [self.manifest_uniform(u, decl) for u in g.uniforms.values() if u.type != "filename"],
             "textures": [self.manifest_texture(u, decl) for u in g.uniforms.values() if u.type == "filename"],
-            "application": [interface.manifest_entry(interface.TABLE[n], self.max_lights,
-                                                     self.environment if lit else None)
-                            for n in sorted(decl.app_names)],
+            "application": application_entries(decl.app_names, self.max_lights, self.environment if lit else None),
         }
         manifest.update(decl.manifest())
         if lit:
@@ -932,6 +940,37 @@ class Emitter:
         if decl is not None and u.name in decl.bindings:
             entry.update(set=targets.BLOCK_SET, binding=decl.bindings[u.name])
         return entry
+
+
+# declaration_identifiers' sets, per process: the text of a stage's declarations -> its identifiers
+_DECLARATION_IDENTIFIERS = {}
+
+
+def declaration_identifiers(text):
+    """glsldeps.identifiers of a stage's declarations, kept per text (materials alike declare alike)."""
+    found = _DECLARATION_IDENTIFIERS.get(text)
+    if found is None:
+        if len(_DECLARATION_IDENTIFIERS) >= _DECLARATIONS_MAX:
+            _DECLARATION_IDENTIFIERS.clear()
+        found = _DECLARATION_IDENTIFIERS[text] = frozenset(glsldeps.identifiers(text))
+    return found
+
+
+# application_entries' records, per process: (names, max_lights, environment) -> the entries (a few dozen sets)
+_APPLICATION = {}
+
+
+def application_entries(names, max_lights, environment):
+    """The manifest's records of the application uniforms `names` (interface.manifest_entry), in name order; each
+    call has its own dicts (the records are kept per process, the caller may change its copies)."""
+    key = (frozenset(names), max_lights, environment)
+    entries = _APPLICATION.get(key)
+    if entries is None:
+        if len(_APPLICATION) >= _DECLARATIONS_MAX:
+            _APPLICATION.clear()
+        entries = _APPLICATION[key] = tuple(interface.manifest_entry(interface.TABLE[n], max_lights, environment)
+                                            for n in sorted(names))
+    return [copy.deepcopy(e) if len(e) > 4 else dict(e) for e in entries]
 
 
 def manifest_value(value):
@@ -1051,11 +1090,14 @@ class Declarations:
             lines = self.struct_lines(used_types)
             lines += interface_declarations(app_names, self.target.name, self.em.max_lights)
             self.material_lines = len(material)     # the last lines: the material's uniforms
+            initializers = self.target.initializers
             for u in material:
                 t, length, init = self.em.uniform_parts(u)
                 suffix = "[%d]" % length if length else ""
-                init = " = " + init if init is not None and self.target.initializers else ""
-                lines.append("uniform %s %s%s%s;" % (t, u.name, suffix, init))
+                if init is not None and initializers:
+                    lines.append("uniform " + t + " " + u.name + suffix + " = " + init + ";")
+                else:
+                    lines.append("uniform " + t + " " + u.name + suffix + ";")
             return lines
         block_types = {u.type for u in self.graph.uniforms.values()}
         lines = self.struct_lines(set(used_types) | block_types)

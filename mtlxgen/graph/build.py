@@ -547,6 +547,8 @@ class GraphBuilder:
         inputs, static = {}, {}
         node_port = node.inputs.get
         public, memo, scope_key = scope.public, self.memo, scope.key
+        # the name path of the element whose public inputs these are (their uniforms' Origin)
+        element = ((scope.graph.name + "/" if scope.graph is not None else "") + node.name) if public else None
         for name, decl in nd.inputs.items():
             port = node_port(name)
             dtype = decl.type
@@ -586,8 +588,7 @@ class GraphBuilder:
                 if p.error:
                     raise MtlxError((p.loc, p.error))
                 if public or dtype == "filename":
-                    src = self.public_value(stem, p, decl, ((scope.graph.name + "/" if scope.graph is not None else "")
-                                                            + node.name) if public else None)
+                    src = self.public_value(stem, p, decl, element)
                 else:
                     q = p if p.value is not None or p.warning else decl
                     if q.warning:
