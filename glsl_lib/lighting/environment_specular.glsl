@@ -1,7 +1,8 @@
 // requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl lighting/environment_prefiltered_lookup.glsl pbrlib/microfacet/ggx.glsl pbrlib/microfacet/fresnel_model.glsl pbrlib/microfacet/albedo.glsl
 // Environment light reflected by a GGX lobe. Default: filtered importance sampling (Krivanek & Colbert
 // 2008, "Real-time Shading with Filtered Importance Sampling") of visible normals with u_envRadianceSamples
-// Hammersley points; define MG_ENV_PREFILTERED for the split-sum alternative (Karis 2013, "Real Shading
+// Hammersley points; MG_ENV_PREFILTERED (a paste switch the generator sets for --environment prefiltered:
+// emit/glsldeps.py) selects the split-sum alternative (Karis 2013, "Real Shading
 // in Unreal Engine 4"): u_envRadiance is then the GGX-prefiltered map (lighting/environment_prefilter.glsl), read
 // once at the level holding the lobe's roughness, times the lobe's albedo from our own table.
 #ifndef MG_ENV_LOD_BIAS
