@@ -6,10 +6,14 @@
 mat3 mg_tangent_frame(vec3 N, vec3 T)
 {
     vec3 t = T - N * dot(N, T);
-    float len = length(t);
-    if (len < 1.0e-6)
-        t = cross(N, abs(N.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0));
-    t = normalize(t);
+    float len2 = dot(t, t);
+    if (len2 < 1.0e-12)
+    {
+        // No usable hint: N x (0, 1, 0), or N x (1, 0, 0) for a normal near the y axis, written out.
+        t = abs(N.y) < 0.99 ? vec3(-N.z, 0.0, N.x) : vec3(0.0, N.z, -N.y);
+        len2 = dot(t, t);
+    }
+    t *= inversesqrt(len2);
     return mat3(t, cross(N, t), N);
 }
 
