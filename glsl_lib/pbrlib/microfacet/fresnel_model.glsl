@@ -66,12 +66,13 @@ vec3 mg_fresnel_film(MgFresnel f, float cosTheta)
     return mg_thin_film_airy(c1, eta2, cos2, f.film_thickness, Rs, Rp, us_re, us_im, up_re, up_im);
 }
 
-// Reflectance at cosTheta, through the thin film where there is one. A loop over samples tests the film once,
-// before it, and calls mg_fresnel_film or mg_fresnel_base in its body (the film thickness is a uniform: a test
-// in the body is paid per sample where the branches of a pixel block are run under a mask, as on llvmpipe;
-// the model needs no such care, being a constant each BSDF's call folds). MG_NO_THIN_FILM: a switch the generator
-// resolves when it pastes this code (mtlxgen/glsldeps.py, SWITCHES) for a shader whose film thicknesses are all
-// literal zeros, which then holds no film code at all.
+// Reflectance at cosTheta, through the thin film where there is one. The sample loops call this in their body, one
+// loop per estimator, the film chosen per sample (lighting/environment_specular.glsl: a film copy of each loop beside
+// the bare one cost the GPU compilers more instructions and compile time than the per-sample test of a uniform
+// thickness, every pixel of which takes the same side; docs/measuring.md, 2026-11-28). The model needs no test at
+// run time, being a constant each BSDF's call folds. MG_NO_THIN_FILM: a switch the generator resolves when it
+// pastes this code (mtlxgen/emit/glsldeps.py, SWITCHES) for a shader whose film thicknesses are all literal zeros,
+// which then holds no film code at all.
 vec3 mg_fresnel_eval(MgFresnel f, float cosTheta)
 {
 #ifndef MG_NO_THIN_FILM
