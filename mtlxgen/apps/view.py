@@ -290,13 +290,13 @@ class Reloader:
     def request(self, element, environment, changed_at=0.0):
         with self._lock:
             self._request = (element, environment, changed_at)
-            self._wake.notify()
+            self._wake.notify_all()     # the thread, and idle() waiters
 
     def request_moving(self, element, session, fis):
         """Make the prefiltered variant of `fis` (element's Generated, from `session`) when no reload waits."""
         with self._lock:
             self._moving[element] = (session, fis)
-            self._wake.notify()
+            self._wake.notify_all()     # the thread, and idle() waiters
 
     def busy(self):
         """A reload waiting, being generated, or its result not yet taken (results()); variants do not count."""
@@ -322,7 +322,7 @@ class Reloader:
     def close(self):
         with self._lock:
             self._stop = True
-            self._wake.notify()
+            self._wake.notify_all()     # the thread, and idle() waiters
         self._thread.join(timeout=5)
 
     def _run(self):
