@@ -70,6 +70,9 @@ FIXTURE_MARKS = {
     "renderer": ("gl",), "harness": ("gl",), "lit_renderer": ("gl",), "stage_renderer": ("gl",),
     "rig_renderers": ("gl",), "scoreboard_harness": ("gl",), "mxharness": ("gl",),
     "browser": ("browser", "gl"),           # Chromium draws the pages with WebGL
+    # modules' own: a Renderer (a white furnace and what it draws) or a context evaluating GLSL on a grid
+    "furnace": ("gl",), "furnace_rig": ("gl",), "furnace_figures": ("gl",), "bsdf_eval": ("gl",),
+    "evaluate": ("gl",), "evaluator": ("gl",),
 }
 # The rest, by module ("test_x": every test in it) or by test ("test_x::test_name", each parametrization): what
 # draws through a helper, a module's own Renderer or OffscreenWindow, or a CLI subprocess (render, batch, golden,
@@ -77,7 +80,7 @@ FIXTURE_MARKS = {
 # too, and so is a page Chromium draws with WebGL; Node alone (checking the three module) is browser only.
 _GL, _WINDOW, _BROWSER = ("gl",), ("gl", "window"), ("gl", "browser")
 MODULE_MARKS = {
-    "test_bench_gpu_compilers": _GL, "test_cluster": _GL, "test_golden": _GL, "test_glsl_validity": _GL,
+    "test_bench_gpu_compilers": _GL, "test_cluster": _GL, "test_shards": _GL, "test_golden": _GL, "test_glsl_validity": _GL,
     "test_render": _GL, "test_scoreboard_scene": _GL, "test_view_edits": _GL, "test_view_keys": _GL,
     "test_view_progressive": _GL,
     "test_view": _WINDOW, "test_view_reload": _WINDOW, "test_view_isolated": _WINDOW,
@@ -152,6 +155,11 @@ MODULE_MARKS = {
     "test_targets::test_cli_max_lights_and_render_lights": _GL,
     "test_targets::test_golden_check_passes_in_every_target": _GL,
     "test_unseen_sweep::test_a_stage_is_swept_for_generated_and_compiled": _GL,
+    "test_unseen_sweep::test_every_document_is_swept": _GL,
+    "test_unseen_sweep::test_every_element_materialx_generates_is_at_parity": _GL,
+    "test_unseen_sweep::test_table_counts_generated_compiled_parity": _GL,
+    "test_glsl_deps::test_generated_shaders_hold_no_function_that_nothing_calls": _GL,
+    "test_glsl_deps::test_generated_shaders_are_smaller_and_keep_their_markers": _GL,
     "test_unseen_sweep::test_an_element_whose_materialx_shader_does_not_compile_is_not_counted": _GL,
     "test_usd_stage::test_cli_options_and_batch": _GL,
     "test_usd_stage::test_directory_sweeps_find_stages_not_the_layers_they_compose": _GL,
@@ -205,6 +213,28 @@ def pytest_collection_modifyitems(config, items):
                 item.add_marker(name)
         if skip is not None and item.get_closest_marker("corpus"):
             item.add_marker(skip)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_fixture_setup(fixturedef, request):
+    """The guard of _gl_guard around the setup of a module's or session's fixture too: such a fixture is set up
+    before the test's own fixtures, so a context it creates for a test not marked gl (a module's furnace Renderer)
+    would pass unseen and slow the fast subset. It fails the test that asked for it, naming the fixture."""
+    item = getattr(request, "_pyfuncitem", None)
+    kinds = () if fixturedef.scope == "function" or item is None else \
+        tuple(kind for kind in ("gl", "browser") if not item.get_closest_marker(kind))
+    if not kinds:
+        return (yield)
+    import nogl_guard
+
+    def refuse(what, kind):
+        pytest.fail(nogl_guard.MESSAGES[kind] % ("%s, in the %s-scoped fixture '%s'" % (
+            what, fixturedef.scope, fixturedef.argname)), pytrace=False)
+    restore = nogl_guard.install(refuse, kinds)
+    try:
+        return (yield)
+    finally:
+        restore()
 
 
 @pytest.fixture(scope="session")
