@@ -50,6 +50,25 @@ def test_the_context_factory_of_the_package_is_refused_with_the_message():
     assert not isinstance(caught.value, Exception)
 
 
+@pytest.fixture(scope="module")
+def module_context_attempt():
+    """What a module's fixture creating a context meets for a test not marked gl (caught here to be read)."""
+    import moderngl
+    try:
+        ctx = moderngl.create_standalone_context()
+    except BaseException as e:      # the guard's failure (pytest's Failed)
+        return str(e)
+    ctx.release()
+    return None
+
+
+def test_a_module_fixture_creating_a_context_is_refused_naming_it(module_context_attempt):
+    """A module's fixture is set up before the test's own guard: conftest.pytest_fixture_setup guards it too."""
+    assert module_context_attempt is not None, "a module-scoped fixture created a context for a test not marked gl"
+    assert "test uses GL but is not marked gl" in module_context_attempt
+    assert "module-scoped fixture 'module_context_attempt'" in module_context_attempt
+
+
 @pytest.mark.parametrize("args, refused", [
     (["glslangValidator", "--version"], "glslangValidator"),
     (["/usr/bin/spirv-val", "x.spv"], "spirv-val"),
