@@ -21,6 +21,28 @@ from mtlxgen.graph.graphtypes import (IDENTIFIER_CHARS, GNode, Graph, Origin, So
 from mtlxgen.read.renamed_inputs import renamed_input_message
 
 # a float port connected to one of these reads its first component (Builder.first_component)
+# _default_uniform's records, per process: id(nodedef input) -> (the input, kept so its id stays its own; type,
+# value, marked uniform, unit, unittype), or False where public_value must read it (bounded: libraries reloaded)
+_DEFAULT_UNIFORMS = {}
+_DEFAULT_UNIFORMS_MAX = 1 << 15
+# the types such a record is made for: a value of one built-in type (no struct, array, file or string)
+_PLAIN_UNIFORM_TYPES = frozenset(("float", "integer", "boolean", "color3", "color4", "vector2", "vector3", "vector4",
+                                  "matrix33", "matrix44"))
+
+
+def _default_uniform(decl):
+    """The public uniform an input the document leaves out makes from nodedef input `decl` (GraphBuilder.public_value
+    with the nodedef's own port), where nothing else is read: no geometric default, no slip to warn of."""
+    if len(_DEFAULT_UNIFORMS) >= _DEFAULT_UNIFORMS_MAX:
+        _DEFAULT_UNIFORMS.clear()
+    record = False
+    if decl.type in _PLAIN_UNIFORM_TYPES and not (decl.defaultgeomprop or decl.error or decl.warning):
+        value = decl.value if decl.value is not None else mxtypes.zero(decl.type)
+        record = (decl, decl.type, value, bool(decl.uniform), decl.unit, decl.unittype)
+    _DEFAULT_UNIFORMS[id(decl)] = record
+    return record
+
+
 # types a public input of which is no uniform (compile-time values)
 _NO_UNIFORM = frozenset(("string", "geomname", "stringarray"))
 _FIRST_COMPONENT = {"color3": "r", "color4": "r", "vector2": "x", "vector3": "x", "vector4": "x"}
@@ -549,8 +571,20 @@ class GraphBuilder:
         public, memo, scope_key = scope.public, self.memo, scope.key
         # the name path of the element whose public inputs these are (their uniforms' Origin)
         element = ((scope.graph.name + "/" if scope.graph is not None else "") + node.name) if public else None
+        uniforms, used_ids = self.uniforms, self.used_ids
         for name, decl in nd.inputs.items():
             port = node_port(name)
+            if port is None and public:         # (most inputs of a shader node: its default, a public uniform)
+                default = _DEFAULT_UNIFORMS.get(id(decl))
+                if default is None:
+                    default = _default_uniform(decl)
+                if default:                     # what public_value makes of it, read once per nodedef input
+                    _, dtype, value, marked, unit, unittype = default
+                    uname = unique_identifier(stem + "_" + name, used_ids)
+                    uniforms[uname] = Uniform(uname, dtype, value, decl.loc, None, None, marked,
+                                              Origin(element, name, False))
+                    inputs[name] = Source(dtype, value, uname, None, None, None, unit, unittype, decl.loc)
+                    continue
             dtype = decl.type
             src = None
             if port is not None:
