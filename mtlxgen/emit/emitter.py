@@ -293,8 +293,9 @@ class Emitter:
             raise ValueError("environment must be one of %s, not %r" % (ENVIRONMENT_METHODS, environment))
         # the emitter's own view of the graph: the public uniforms are its own table, which emission may
         # extend (UDIM tiles, primvar flags) or thin (a sampler nothing reads); the graph itself never changes
-        self.graph = copy.copy(graph)
-        self.graph.uniforms = dict(graph.uniforms)
+        view = self.graph = object.__new__(type(graph))     # (copy.copy's shallow copy, without its protocol)
+        view.__dict__.update(graph.__dict__)
+        view.uniforms = dict(graph.uniforms)
         self.environment = environment
         self.target = targets.get(target)
         self.max_lights = int(max_lights)   # u_lightData's length; 0: lit surfaces have no light loop
