@@ -20,11 +20,10 @@ this module's generation: what the API returns is what the commands write.
 from __future__ import annotations
 
 import os
-import shutil
-import tempfile
 import warnings as _warnings
+from collections import namedtuple
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, fields
-from typing import Iterable, NamedTuple, Optional, Sequence, Union
 
 from mtlxgen.base.diagnostics import Loc, MtlxError, Warnings
 from mtlxgen.emit.emitter import Shader
@@ -32,14 +31,13 @@ from mtlxgen.emit.emitter import Shader
 __all__ = ["generate", "render", "Session", "Shader", "Shaders", "Options", "DocumentError", "DocumentWarning",
            "Problem"]
 
-PathLike = Union[str, "os.PathLike[str]"]
+PathLike = str | os.PathLike[str]
 STRING_SOURCE = "<string>"      # the file name problems in a document given as a string of XML are reported at
 
 
-class Problem(NamedTuple):
-    """One problem in a document: where (`loc`: file and line, or a USD stage's prim path) and what."""
-    loc: Loc
-    message: str
+class Problem(namedtuple("Problem", "loc message")):
+    """One problem in a document: where (`loc`: file and line, or a USD stage's prim path) and what (`message`)."""
+    __slots__ = ()
 
     @property
     def file(self) -> str:
@@ -72,7 +70,7 @@ class DocumentWarning(UserWarning):
     """A slip MaterialX reads past (a value with text after its number, an input its nodedef lacks): the document is
     read as MaterialX reads it. The message is the `FILE:LINE: warning: ...` line; `problem` its Problem."""
 
-    def __init__(self, line: str, problem: Optional[Problem] = None):
+    def __init__(self, line: str, problem: Problem | None = None):
         super().__init__(line)
         self.problem = problem
 
@@ -103,9 +101,9 @@ class Options:
     max_lights: int = 0
     strict: bool = False
     keep: Sequence[str] = ()
-    usd_seed_rules: Optional[bool] = None
+    usd_seed_rules: bool | None = None
     variants: Sequence[tuple] = ()
-    render_context: Optional[str] = None
+    render_context: str | None = None
 
     @classmethod
     def of(cls, options) -> "Options":
@@ -137,6 +135,7 @@ class _Source:
     def __init__(self, source):
         self.folder = None
         if _is_xml_text(source):
+            import tempfile
             self.folder = tempfile.mkdtemp(prefix="mtlxgen-")
             self.path = os.path.join(self.folder, "document.mtlx")
             with open(self.path, "w", encoding="utf-8") as f:
@@ -160,6 +159,7 @@ class _Source:
 
     def close(self):
         if self.folder is not None:
+            import shutil
             shutil.rmtree(self.folder, ignore_errors=True)
             self.folder = None
 
@@ -203,7 +203,7 @@ def generate_partial(source, elements=None, options=None, warnings=None, **setti
         src.close()
 
 
-def _elements(element) -> Optional[list]:
+def _elements(element) -> list | None:
     if element is None:
         return None
     if isinstance(element, str):
@@ -227,8 +227,8 @@ def _generate_all(source, element, target, interface, options, unreadable_textur
 
 # ---------------------------------------------------------------- the public calls
 
-def generate(source: Union[PathLike, str], element: Union[str, Iterable[str], None] = None, *, target: str = "glsl",
-             interface: str = "complete", options: Union[Options, dict, None] = None) -> Shaders:
+def generate(source: PathLike | str, element: str | Iterable[str] | None = None, *, target: str = "glsl",
+             interface: str = "complete", options: Options | dict | None = None) -> Shaders:
     """The shaders of a document's renderable elements (or of `element`: a name path, a USD material's prim path or
     name, or several of them).
 
@@ -245,8 +245,8 @@ def generate(source: Union[PathLike, str], element: Union[str, Iterable[str], No
     return _generate_all(source, element, target, interface, options)
 
 
-def render(shader_or_source: Union[Shader, PathLike, str], element: Optional[str] = None, *, size: int = 256,
-           environment=None, samples: int = 64, options: Union[Options, dict, None] = None):
+def render(shader_or_source: Shader | PathLike | str, element: str | None = None, *, size: int = 256,
+           environment=None, samples: int = 64, options: Options | dict | None = None):
     """A picture of a shader (or of a document's element: its first renderable one unless `element` names one) on
     `render`'s sphere, lit by `environment`, as a numpy array: linear RGBA float32, shape (size, size, 4), row 0 on
     top; what `mtlxgen render` writes to NAME.exr.
@@ -266,18 +266,18 @@ class Session:
     takes them, for every picture (each render call may give others)."""
 
     def __init__(self, *, target: str = "glsl", interface: str = "complete",
-                 options: Union[Options, dict, None] = None, size: int = 256, environment=None, samples: int = 64):
+                 options: Options | dict | None = None, size: int = 256, environment=None, samples: int = 64):
         self.target, self.interface, self.options = target, interface, Options.of(options)
         self.size, self.environment, self.samples = int(size), environment, int(samples)
         self._renderer = None
         self._renderer_env = None
 
-    def generate(self, source: Union[PathLike, str], element: Union[str, Iterable[str], None] = None) -> Shaders:
+    def generate(self, source: PathLike | str, element: str | Iterable[str] | None = None) -> Shaders:
         """generate(source, element) with this session's target, interface and options."""
         return _generate_all(source, element, self.target, self.interface, self.options)
 
-    def render(self, shader_or_source: Union[Shader, PathLike, str], element: Optional[str] = None, *,
-               size: Optional[int] = None, environment=None, samples: Optional[int] = None):
+    def render(self, shader_or_source: Shader | PathLike | str, element: str | None = None, *,
+               size: int | None = None, environment=None, samples: int | None = None):
         """render(...) with this session's GL context: a Shader as it is, or a document's element generated first."""
         from mtlxgen import pipeline
         if isinstance(shader_or_source, Shader):
