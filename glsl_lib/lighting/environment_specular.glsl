@@ -1,8 +1,7 @@
 // requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl lighting/environment_prefiltered_lookup.glsl pbrlib/microfacet/ggx.glsl pbrlib/microfacet/fresnel_model.glsl pbrlib/microfacet/albedo.glsl
 // Environment light reflected by a GGX lobe. Default: filtered importance sampling (Krivanek & Colbert
 // 2008, "Real-time Shading with Filtered Importance Sampling") of visible normals with u_envRadianceSamples
-// Hammersley points; MG_ENV_PREFILTERED (a paste switch the generator sets for --environment prefiltered:
-// emit/glsldeps.py) selects the split-sum alternative (Karis 2013, "Real Shading
+// Hammersley points; define MG_ENV_PREFILTERED for the split-sum alternative (Karis 2013, "Real Shading
 // in Unreal Engine 4"): u_envRadiance is then the GGX-prefiltered map (lighting/environment_prefilter.glsl), read
 // once at the level holding the lobe's roughness, times the lobe's albedo from our own table.
 #ifndef MG_ENV_LOD_BIAS
@@ -11,19 +10,14 @@
 
 // Mip level whose texels cover the solid angle of one sample of density pdf among n
 // (Krivanek & Colbert 2008 eq. 8: lod = 1/2 log2(Omega_s / Omega_p) + bias), for a lat-long map whose
-// texels span 2 pi^2 cos(elevation) / (w h) steradians: Omega_s / Omega_p = w h / (2 pi^2 n) / (pdf cos(elevation)).
-// mg_env_lod_offset is the part a sample loop shares (1/2 log2 of the first factor, plus the bias), taken once
-// before the loop; mg_env_lod the sample's own.
-float mg_env_lod_offset(int n)
+// texels span 2 pi^2 cos(elevation) / (w h) steradians.
+float mg_env_lod(vec3 dir, float pdf, int n)
 {
     vec2 size = vec2(textureSize(u_envRadiance, 0));
-    return 0.5 * log2(size.x * size.y / (2.0 * MG_PI * MG_PI * float(n))) + MG_ENV_LOD_BIAS;
-}
-
-float mg_env_lod(vec3 dir, float pdf, float offset)
-{
+    float omega_s = 1.0 / (float(n) * max(pdf, 1.0e-8));
     float cos_el = sqrt(max(1.0 - dir.y * dir.y, 1.0e-4));
-    return clamp(offset - 0.5 * log2(max(pdf, 1.0e-8) * cos_el), 0.0, float(u_envRadianceMips - 1));
+    float omega_p = 2.0 * MG_PI * MG_PI * cos_el / (size.x * size.y);
+    return clamp(0.5 * log2(omega_s / omega_p) + MG_ENV_LOD_BIAS, 0.0, float(u_envRadianceMips - 1));
 }
 
 // The lobe's albedo for the split sum: the Schlick-split albedo, plus the node's own Fresnel curve's
@@ -56,7 +50,6 @@ vec3 mg_retro(vec3 Lt)
 vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, float G1V) \
 { \
     vec3 sum = vec3(0.0); \
-    float lod_offset = mg_env_lod_offset(mg_env_sample_total(n)); \
     for (int i = 0; i < n; ++i) \
     { \
         vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n)); \
@@ -67,7 +60,7 @@ vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, floa
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z); \
         vec3 L = frame * (retro ? mg_retro(Lt) : Lt); \
         vec3 F = FRESNEL(fr, VdotH); \
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, lod_offset)) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
     } \
     return sum; \
 }

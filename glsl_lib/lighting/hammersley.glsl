@@ -42,15 +42,14 @@ uint mg_sobol2(uint t)
     return mg_reverse_bits(t);
 }
 
-// Both points are computed and one kept (a select, no branch: a test in every sample loop's body that the
-// GPU compilers do not hoist).
 vec2 mg_env_sample_point(int i, int n)
 {
     int frames = max(u_envSampleFrames, 1);
+    if (frames == 1)
+        return mg_hammersley(i, n);
     uint t = uint(clamp(u_envSampleFrame, 0, frames - 1) * n + i);
     float x = float(mg_reverse_bits(t)) * 2.3283064365386963e-10 + 0.5 / float(n * frames);
-    vec2 progressive = vec2(x, float(mg_sobol2(t)) * 2.3283064365386963e-10);
-    return frames == 1 ? mg_hammersley(i, n) : progressive;
+    return vec2(x, float(mg_sobol2(t)) * 2.3283064365386963e-10);
 }
 
 // The number of samples the frames together take: what a sample's filtered lookup is sized for.
