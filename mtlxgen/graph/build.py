@@ -476,6 +476,14 @@ class GraphBuilder:
             raise MtlxError((loc, "unknown defaultgeomprop '%s'" % geomprop_name))
         if gp.name in self.geom_memo:
             return self.geom_memo[gp.name]
+        recipe = self.lib.geom_nodes.get(gp.name)
+        if recipe is not None and recipe[0] is gp:      # built before in this library: the same node again
+            _, stem, nd, inputs, static, output, otype = recipe
+            ident = self.add_node(stem, nd, {k: Source(t, value, None, None, None, None, unit, unittype,
+                                                       loc if at is None else at)
+                                             for k, t, value, unit, unittype, at in inputs}, loc, dict(static))
+            src = self.geom_memo[gp.name] = Source(otype, node=ident, output=output, loc=loc)
+            return src
         category = gp.geomprop
         inputs = {}
         if gp.space:
@@ -491,9 +499,21 @@ class GraphBuilder:
             node = Node(category="geompropvalue", name="geomprop_" + gp.name, type=gp.type, loc=loc)
             node.inputs["geomprop"] = Port(name="geomprop", type="string", loc=loc, value=gp.geomprop, text=gp.geomprop)
         sub = _Scope({node.name: node}, "", {}, False, None, None, loc)
+        order, warned = len(self.order), len(self.warnings.items)
         outs = self.instantiate(node, sub)
         src = next(iter(outs.values()))
         self.geom_memo[gp.name] = src
+        # the node built, kept for the next graph of this library where it is one leaf node of literal inputs and
+        # warned of nothing (else the next graph builds it as this one did: an implementation, a warning)
+        made = self.nodes.get(src.node) if src.node is not None else None
+        if (gp.name in self.lib.geompropdefs and self.lib.geompropdefs[gp.name] is gp and len(self.order) == order + 1
+                and made is not None and self.order[-1] == made.id and made.function is None
+                and len(self.warnings.items) == warned and all(v.literal for v in made.inputs.values())):
+            self.lib.geom_nodes[gp.name] = (gp, node.name, made.nodedef,
+                                            tuple((k, v.type, v.value, v.unit, v.unittype,
+                                                   None if v.loc is loc else v.loc)     # (None: the reader's)
+                                                  for k, v in made.inputs.items()),
+                                            tuple(made.static.items()), src.output, src.type)
         return src
 
     def instantiate(self, node, scope):

@@ -132,6 +132,8 @@ class Library:
     _matches: dict = field(default_factory=dict, init=False, repr=False, compare=False)
     # functions.py's nodegraph implementations as GLSL functions, by key (functions.Family): cleared on any change
     functions: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    # graph building's geometric-property nodes, by geompropdef name (build.GraphBuilder.geom_source): cleared too
+    geom_nodes: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def find_nodedef(self, category, version, node_type, inputs):
         """The nodedef a node of `category` (its `version`, output `node_type` and `inputs`, a dict of ports)
@@ -185,6 +187,7 @@ class Library:
         self._candidates.clear()
         self._matches.clear()
         self.functions.clear()
+        self.geom_nodes.clear()
 
     def add_document(self, doc, overlay=False):
         self._changed()
