@@ -190,6 +190,30 @@ def parse_value(type_name, text, structs=None, slips=None):
     """
     if text is None:
         return None
+    key = (type_name, text)
+    value = _PARSED.get(key)
+    if value is not None:
+        return value
+    if type_name in _PARSED_TYPES:                  # a number or a few: kept once read with no slip
+        found = len(slips) if slips is not None else 0
+        value = _parse_value(type_name, text, structs, slips)
+        if value is not None and (slips is None or len(slips) == found):
+            if len(_PARSED) >= _PARSED_MAX:
+                _PARSED.clear()
+            _PARSED[key] = value
+        return value
+    return _parse_value(type_name, text, structs, slips)
+
+
+# parse_value's values of built-in numeric types read with no slip, per process: (type, text) -> the value (floats,
+# ints, bools, tuples of floats: immutable). A library of materials writes the same few values again and again.
+_PARSED = {}
+_PARSED_MAX = 1 << 16
+_PARSED_TYPES = frozenset(("float", "integer", "boolean", "color3", "color4", "vector2", "vector3", "vector4",
+                           "matrix33", "matrix44"))
+
+
+def _parse_value(type_name, text, structs=None, slips=None):
     if not text.strip() and type_name in ("float", "integer", "boolean", "color3", "color4", "vector2", "vector3",
                                           "vector4", "matrix33", "matrix44"):
         # value="" (seen in exported files): MaterialX reads no value there, so its nodedef's default

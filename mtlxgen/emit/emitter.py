@@ -798,7 +798,8 @@ class Emitter:
         identifiers `known`) reach, the paste switches resolved for this shader (glsldeps.SWITCHES: paste_switches()
         and its environment method's), compacted in a reduced shader."""
         switches = frozenset(self.paste_switches() | ENVIRONMENT_SWITCHES[self.environment])
-        raw = tuple(read_lib_file(r)[0] for r in files)
+        cache = _FILE_CACHE
+        raw = tuple(cache[r][0] if r in cache else read_lib_file(r)[0] for r in files)
         key = (tuple(files), raw, switches)     # (a str keeps its hash: the texts are hashed once)
         texts = _SWITCHED_FILES.get(key)
         if texts is None:
@@ -888,7 +889,8 @@ class Emitter:
         frag.extend(self.body)
         frag.append("    out_color = %s;" % out_expr)
         frag.append("}")
-        fragment = "\n".join(frag) + "\n"
+        frag.append("")
+        fragment = "\n".join(frag)
         stem = file_stem(g.element)
         manifest = {
             "element": g.element,
@@ -897,7 +899,7 @@ class Emitter:
             "vertex": stem + ".vert",
             "fragment": stem + ".frag",
             "attributes": dict(vertex.attributes),
-            "uniforms": [self.manifest_uniform(u, decl) for u in g.uniforms.values() if u.type != "filename"],
+            "uniforms": self.manifest_uniforms(g.uniforms.values(), decl),
             "textures": [self.manifest_texture(u, decl) for u in g.uniforms.values() if u.type == "filename"],
             "application": application_entries(decl.app_names, self.max_lights, self.environment if lit else None),
         }
@@ -909,6 +911,21 @@ class Emitter:
             manifest["primvars"] = self.primvars
         code = self.document_code + (vertex_emitter.document_code if vertex_emitter is not None else [])
         return Shader(g.element, vertex.text(decl), fragment, manifest, document_code=code)
+
+    def manifest_uniforms(self, uniforms, decl):
+        """The manifest's records of the material's uniforms but its textures (manifest_uniform), in order."""
+        out = []
+        offsets = decl.offsets
+        for u in uniforms:
+            t = u.type
+            spelling = _LITERAL_SPELLING.get(t)
+            if spelling is not None and not offsets:        # (manifest_uniform's first case, inline: most)
+                v = u.value
+                out.append({"name": u.name, "type": spelling, "mtlx_type": t,
+                            "value": manifest_value(v) if type(v) is tuple else v})
+            elif t != "filename":
+                out.append(self.manifest_uniform(u, decl))
+        return out
 
     def manifest_uniform(self, u, decl=None):
         t = u.type
