@@ -23,7 +23,7 @@ import os
 import warnings as _warnings
 from collections import namedtuple
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, fields
+from mtlxgen.base.records import dataclass, fields
 
 from mtlxgen.base.diagnostics import Loc, MtlxError, Warnings
 from mtlxgen.emit.emitter import Shader

@@ -10,7 +10,7 @@ Each bad value is a ValueError (a TypeError for a value of the wrong kind) of on
 where the options are made, before any document is read. Light to import: nothing here reads a document or imports
 the emitter (the command line builds one for --help-free argument checking)."""
 import os
-from dataclasses import dataclass, fields, replace as _replace
+from mtlxgen.base.records import dataclass, fields, replace as _replace
 
 from mtlxgen.base.diagnostics import Loc, MtlxError
 from mtlxgen.base.interface import LIGHTS_LIMIT

@@ -26,7 +26,7 @@ element's failure, one line naming the document and element. A scheduler that go
 MtlxError, one line naming it; the caller has written nothing yet (the client alone writes goldens, images and
 results, and only once every task is in).
 """
-import dataclasses
+from mtlxgen.base import records
 import functools
 import hashlib
 import logging
@@ -282,7 +282,7 @@ def run_tasks(address, tasks, done, bar, run, failed, options=None, post=None, a
                     if isinstance(e, KilledWorker) and element is None and len(task.elements) > 1:
                         parts[group[0]] = {}
                         for el in task.elements:        # each alone: the one that kills its workers is found
-                            resubmit([dataclasses.replace(task, elements=(el,))], (group, el))
+                            resubmit([records.replace(task, elements=(el,))], (group, el))
                         fut.release()
                         continue
                     if isinstance(e, KilledWorker):

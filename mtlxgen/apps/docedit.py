@@ -26,7 +26,7 @@ import codecs
 import hashlib
 import os
 import re
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 from mtlxgen.base.diagnostics import Loc, MtlxError
 

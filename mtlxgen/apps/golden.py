@@ -21,7 +21,7 @@ a FLIP limit is set. The scoreboard's parity verdict (compare.parity) is recorde
 import hashlib
 import json
 import os
-from dataclasses import asdict, dataclass
+from mtlxgen.base.records import asdict, dataclass
 
 import numpy as np
 

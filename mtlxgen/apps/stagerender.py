@@ -21,7 +21,7 @@ is fitted inside it (the wider of its two fields of view on both axes).
 import math
 import os
 import tempfile
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 import numpy as np
 

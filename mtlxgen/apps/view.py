@@ -30,7 +30,7 @@ import os
 import sys
 import threading
 import time
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 import numpy as np
 

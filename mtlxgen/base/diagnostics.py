@@ -4,7 +4,7 @@ stage, which has no lines, the layer and the prim path or attribute: FILE:/Prim/
 Warnings are slips that MaterialX reads on (a value with text after its number, a color3 input fed by a vector3,
 an input its named nodedef lacks): read as MaterialX reads them and printed as `FILE:LINE: warning: ...`;
 strict mode (--strict) turns each into a problem."""
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 
 
 @dataclass(frozen=True)

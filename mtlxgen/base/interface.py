@@ -9,7 +9,7 @@ A glsl_lib file that reads one names it in a `// uniforms: NAME ...` header line
 handler asks for one with Emitter.app_uniform; a stream's vertex expression lists the ones it needs.
 """
 import os
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 
 MAX_LIGHTS = 8          # u_lightData's length (MG_MAX_LIGHTS in the GLSL) where a shader is asked for lights
                         # without a number (the viewer's rig); a shader takes as many as --max-lights says

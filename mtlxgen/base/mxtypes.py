@@ -3,7 +3,7 @@
 Plain tables: one row per type. Struct types declared with <typedef> are added per document.
 """
 import re
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 
 @dataclass(frozen=True)

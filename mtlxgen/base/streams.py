@@ -5,7 +5,7 @@ GLSL type, the vertex attributes it reads, the vertex-stage expression and how t
 reads the interpolated value. Names with an index or a property name are built by `lookup`.
 """
 import re
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 
 _N_WORLD = "(u_worldInverseTransposeMatrix * vec4(i_normal, 0.0)).xyz"
 _T_WORLD = "(u_worldMatrix * vec4(i_tangent, 0.0)).xyz"

@@ -16,7 +16,7 @@ target for each declaration; the differences between targets live here and nowhe
   member's offset, each sampler's binding and each attribute's location.
 """
 import re
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 
 BLOCK_NAME = "MaterialUniforms"
 BLOCK_SET = 0

@@ -3,7 +3,7 @@
 Two sRGB 8-bit renders match when the mean of the per-pixel max-channel difference is <= 2/255 and
 at most 1% of pixels differ by more than 8/255.
 """
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 
 import numpy as np
 

@@ -14,7 +14,7 @@ filtering for the radiance, linear for the irradiance, wrap repeat. A host that 
 (glGenerateMipmap) binds the same picture: mip_chain is what Mesa's generator makes, a 2x2 box for even sizes.
 Plain numpy: nothing here needs a GL context.
 """
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 import numpy as np
 

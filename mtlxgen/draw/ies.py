@@ -13,7 +13,7 @@ those measured are dark. glsl_lib/pbrlib/edf/measured.glsl reads it; the render 
 texture whose file ends in .ies through this module.
 """
 import re
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 
 import numpy as np
 

@@ -14,7 +14,7 @@ default; one that is there but cannot be bound (not a regular file, not an image
 import os
 import sys
 import time
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 from typing import Callable, Optional
 
 import numpy as np

@@ -17,7 +17,7 @@ import functools
 import json
 import os
 import re
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 from mtlxgen.passes import closureplan
 from mtlxgen.graph import functions, graphwalk

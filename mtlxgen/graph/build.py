@@ -7,7 +7,7 @@ defaultgeomprops turned into geometric nodes, defaults filled in. What remains i
 nodes in dependency order, each with a GLSL implementation in the node table, plus the public
 uniforms of the material. Cycles, unknown nodes and type mismatches are reported with file:line.
 """
-from dataclasses import replace
+from mtlxgen.base.records import replace
 
 from mtlxgen.base import colorspaces, mxtypes
 from mtlxgen.graph import graphwalk

@@ -5,7 +5,7 @@ uniforms their names (glsl_identifier, unique_identifier). A leaf: it knows no d
 table and no target, so both sides of the pipeline can share it without importing each other.
 """
 from collections import namedtuple
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 from mtlxgen.base.diagnostics import Loc
 # the GLSL identifier rules nodes and uniforms are named by (base: reading names stems too); graphtypes.X

@@ -24,7 +24,7 @@ Nodedefs implemented by nodegraphs in the data libraries need no entry: the grap
 """
 import importlib
 import os
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 from mtlxgen.base.diagnostics import MtlxError
 from mtlxgen.graph.build import BuildRules

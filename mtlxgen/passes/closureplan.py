@@ -13,7 +13,7 @@ interface's constants): True, False, or what remains of it. glsl() writes one as
 nodes' inputs, which only emission knows.
 """
 import operator
-from dataclasses import replace
+from mtlxgen.base.records import replace
 
 from mtlxgen.graph import graphwalk
 from mtlxgen.base.mxtypes import format_float

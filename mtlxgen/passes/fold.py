@@ -20,7 +20,7 @@ static_guards: the emitter decides the closure guards whose conditions are now l
 evaluate() is the node tables' values in Python by category and nodedef: the tests compare it with the GLSL's pixels
 (tests/passes/test_fold.py) and reference.node_value is it.
 """
-from dataclasses import replace
+from mtlxgen.base.records import replace
 
 import numpy as np
 

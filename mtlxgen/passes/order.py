@@ -24,7 +24,7 @@ with their Origin). The first pass makes it from the document; each later one ta
 Implementations emitted as functions get the same passes inside (functions.Family.body: build; the emitter plans
 their closures).
 """
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 
 
 @dataclass(frozen=True)

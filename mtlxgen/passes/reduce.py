@@ -18,7 +18,7 @@ became constant.
 """
 import json
 import re
-from dataclasses import dataclass, field, replace
+from mtlxgen.base.records import dataclass, field, replace
 
 from mtlxgen.base.diagnostics import Loc, MtlxError
 from mtlxgen.graph.build import Source, glsl_identifier

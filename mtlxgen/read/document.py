@@ -3,7 +3,7 @@
 Values are parsed into Python values of their type; fileprefix / geomprefix / colorspace are
 inherited down the tree and applied here, so later stages never look at ancestors.
 """
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 from mtlxgen.base import mxtypes
 from mtlxgen.base.diagnostics import did_you_mean, Loc, MtlxError, Problems

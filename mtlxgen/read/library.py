@@ -11,7 +11,7 @@ load takes a few milliseconds. Nodedefs are found by (category, version, type, i
 import functools
 import os
 import re
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 from mtlxgen.base.diagnostics import MtlxError
 from mtlxgen.base.files import glsl_lib_root, materialx_library_root  # noqa: F401 (library.X for callers)

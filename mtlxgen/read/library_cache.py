@@ -20,7 +20,7 @@ import os
 import stat
 import zlib
 from collections.abc import MutableMapping
-from dataclasses import fields
+from mtlxgen.base.records import fields
 
 from mtlxgen.base import diagnostics, mxtypes
 from mtlxgen.read import document

@@ -42,7 +42,7 @@ being the layer holding the strongest opinion.
 import hashlib
 import os
 import re
-from dataclasses import dataclass, field
+from mtlxgen.base.records import dataclass, field
 
 from mtlxgen.base import mxtypes
 from mtlxgen.base.diagnostics import Loc, MtlxError

@@ -14,7 +14,7 @@ import importlib
 import os
 import re
 import xml.parsers.expat
-from dataclasses import dataclass
+from mtlxgen.base.records import dataclass
 
 from mtlxgen.base import files
 from mtlxgen.base.diagnostics import Loc, MtlxError

@@ -2,7 +2,7 @@
 makes (OurGenerator.moving_shader: the same element and options, environment "prefiltered") on the reloader's
 thread; the fis program draws until it is there, a variant made for another text is not taken, and a variant the
 driver refuses leaves the fis program drawing. Drawn offscreen (no display needed)."""
-import dataclasses
+from mtlxgen.base import records
 import io
 import threading
 
@@ -124,12 +124,12 @@ def test_a_variant_made_for_another_text_is_not_taken(doc, tmp_path):
     try:
         loaded = v.current()
         fis = loaded.generated
-        other = dataclasses.replace(fis, fragment=fis.fragment.replace("void main()", "float mg_other() { return 1.0; }"
+        other = records.replace(fis, fragment=fis.fragment.replace("void main()", "float mg_other() { return 1.0; }"
                                                                        "\nvoid main()"))
         pre = Generated("M_lit", fis.stem, fis.vertex, "#version 400\n", dict(fis.manifest, environment="prefiltered"))
         v.apply_moving(Moving("M_lit", other, pre))             # its fis text differs from the one drawn
         assert loaded.moving_generated is None
-        v.apply_moving(Moving("M_lit", fis, dataclasses.replace(pre, manifest=dict(pre.manifest, uniforms=[]))))
+        v.apply_moving(Moving("M_lit", fis, records.replace(pre, manifest=dict(pre.manifest, uniforms=[]))))
         assert loaded.moving_generated is None                   # other uniforms than the drawn program's
         v.apply_moving(Moving("M_lit", fis, pre))
         assert loaded.moving_generated is pre
