@@ -18,6 +18,8 @@ import bisect
 import os
 import re
 
+from mtlxgen.emit import splitcache
+
 __all__ = ["GlslSplitError", "Item", "LibFile", "SWITCHES", "resolve_switches", "split", "split_file", "identifiers",
            "used_code"]
 
@@ -495,12 +497,30 @@ _CACHE = {}
 
 
 def split_file(rel, text):
-    """split(text, rel), once per process for each (rel, text)."""
+    """split(text, rel), once per process for each (rel, text), and kept on disk between processes (splitcache)."""
     key = (rel, text)
     lf = _CACHE.get(key)
     if lf is None:
-        lf = _CACHE[key] = split(text, rel)
+        lf = _stored_split(rel, text)
+        if lf is None:
+            lf = split(text, rel)
+            splitcache.add(rel, text, lf)
+        _CACHE[key] = lf
     return lf
+
+
+def _stored_split(rel, text):
+    """The LibFile of `text` from its stored split (splitcache.find), or None."""
+    entry = splitcache.find(rel, text)
+    if entry is None:
+        return None
+    header_end, stored = entry
+    items = []
+    for kind, names, uses, code_start, code_end, line, start, end in stored:
+        it = Item(kind, names, uses, code_start, code_end, line)
+        it.start, it.end = start, end
+        items.append(it)
+    return LibFile(rel, text, text[:header_end], items)
 
 
 def _index(libs):
@@ -554,6 +574,7 @@ def used_code(files, roots, known=frozenset()):
         if len(_USED) >= _USED_MAX:
             _USED.clear()
         libs = [split_file(rel, text) for rel, text in files]
+        splitcache.save()                   # the splits made here kept for the next process
         index = _index(libs)
         entry = _USED[key] = (libs, index, frozenset(index), {})
     libs, index, defined, done = entry
