@@ -23,10 +23,13 @@ _entries = None             # key -> entry, as read from the file (None: not rea
 _added = {}                 # entries this process made, not yet written
 
 
+# the splitter, whose code decides what a split holds (beside this module; not imported: it imports this one)
+_SPLITTER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "glsldeps.py")
+
+
 def _path():
-    from mtlxgen.emit import glsldeps
-    st = os.stat(glsldeps.__file__)
-    name = "%d|%s|%d|%d" % (FORMAT, os.path.abspath(glsldeps.__file__), st.st_size, st.st_mtime_ns)
+    st = os.stat(_SPLITTER)
+    name = "%d|%s|%d|%d" % (FORMAT, _SPLITTER, st.st_size, st.st_mtime_ns)
     return os.path.join(library_cache.cache_dir(),
                         "%s%s.bin" % (_PREFIX, library_cache.digest(name.encode("utf-8", "surrogateescape")).hex()))
 
