@@ -3,10 +3,12 @@ start-up cost.
 
 Every record of the pipeline (a document's Port and Node, the graph's Source and GNode, a Shader, the options) is
 declared as a data class: annotated fields with defaults, `field(default_factory=...)`, `frozen`, `slots`,
-`eq=False`, `__post_init__`, `fields()`, `replace()` and `asdict()`. The standard module costs every command 35-40 ms before it
-does any work: importing it imports `inspect` (8-11 ms), and it compiles each generated method of each class by
-itself (25 classes on the path to a written shader: 25-30 ms). That was a quarter of a cold `mtlxgen generate`
-(docs/measuring.md). This module writes the same methods, all of one class in one compile, and imports nothing.
+`eq=False`, `__post_init__`, `fields()`, `replace()` and `asdict()`. The standard module costs every command
+35-40 ms before it does any work: importing it imports `inspect` (8-11 ms), and it compiles each generated method
+of each class by itself (25 classes on the path to a written shader: 25-30 ms), a quarter of a cold `mtlxgen
+generate` (docs/measuring.md). This module imports nothing, writes `__repr__` and the frozen records'
+`__setattr__` as plain functions, and compiles a class's `__init__`, `__eq__` and `__hash__` each when it is first
+called (a command uses a few of the methods of the records it imports): 1.5 ms for the 25 classes.
 
 What it supports is exactly that subset, with the standard module's meaning (tests/base/test_records.py holds them
 side by side): `__init__` with the fields in order (a default, or a factory called per instance; `init=False`
@@ -116,27 +118,75 @@ def _collect(cls):
 
 def _process(cls, frozen, slots, eq, repr_):
     flds = _collect(cls)
-    ns = {"MISSING": MISSING, "_FACTORY": _FACTORY, "FrozenInstanceError": FrozenInstanceError,
-          "_set": object.__setattr__}
-    params, body, seen_default = [], [], False
-    assign = "  _set(self, %r, %s)" if frozen else "  self.%s = %s"     # (a frozen record's own __setattr__ refuses)
+    _check_order(flds)
+    owner = [cls]                   # the class the methods are for (the slotted class, where one is made)
+    _put(cls, "__init__", _lazy(owner, "__init__", lambda c: _init_source(flds, frozen, hasattr(c, "__post_init__")),
+                                flds))
+    if repr_:
+        _put(cls, "__repr__", _repr_of(tuple(f.name for f in flds if f.repr)))
+    if eq:
+        compared = tuple(f.name for f in flds if f.compare)
+        _put(cls, "__eq__", _lazy(owner, "__eq__", lambda c: _eq_source(compared), flds))
+        if "__hash__" not in cls.__dict__ or cls.__dict__["__hash__"] is None:
+            cls.__hash__ = _lazy(owner, "__hash__", lambda c: _hash_source(compared), flds) if frozen else None
+    if frozen:
+        _put(cls, "__setattr__", _frozen_setattr)
+        _put(cls, "__delattr__", _frozen_delattr)
+    for f in flds:                                    # class attributes: the defaults, as the standard module
+        if f.name in cls.__dict__ and isinstance(cls.__dict__[f.name], Field):
+            if f.default is MISSING:
+                delattr(cls, f.name)
+            else:
+                setattr(cls, f.name, f.default)
+    cls.__record_fields__ = tuple(flds)
+    if slots:
+        cls = owner[0] = _with_slots(cls, flds)
+    return cls
+
+
+def _put(cls, name, value):
+    if name not in cls.__dict__:                      # a method the class writes itself is kept
+        setattr(cls, name, value)
+
+
+# A record's __init__, __eq__ and __hash__ are compiled when first called, each by itself: a command uses a few
+# of the methods of the records it imports, and compiling them all at import was most of the decorator's cost.
+def _lazy(owner, name, source, flds):
+    """A method `name` that compiles the real one (source(class): its text), puts it on its class in its place
+    and runs it. The class is owner[0], the record's own (a record derived from it gets its own methods)."""
+    def first_call(self, *args, **kwargs):
+        cls = owner[0]
+        method = _compile(name, source(cls), flds)
+        if cls.__dict__.get(name) is first_call:
+            setattr(cls, name, method)
+        return method(self, *args, **kwargs)
+    first_call.__name__ = first_call.__qualname__ = name
+    return first_call
+
+
+def _compile(name, text, flds):
+    ns = {"MISSING": MISSING, "_FACTORY": _FACTORY, "_set": object.__setattr__}
     for f in flds:
         if f.default_factory is not MISSING:
             ns["_f_" + f.name] = f.default_factory
         elif f.default is not MISSING:
             ns["_d_" + f.name] = f.default
+    exec(text, ns)
+    return ns[name]
+
+
+def _init_source(flds, frozen, post_init):
+    params, body = [], []
+    assign = "  _set(self, %r, %s)" if frozen else "  self.%s = %s"     # (a frozen record's own __setattr__ refuses)
+    for f in flds:
         if f.init:
             if f.default_factory is not MISSING:
                 params.append("%s=_FACTORY" % f.name)
                 expr = "_f_%s() if %s is _FACTORY else %s" % (f.name, f.name, f.name)
-                seen_default = True
             elif f.default is not MISSING:
                 params.append("%s=_d_%s" % (f.name, f.name))
                 expr = f.name
-                seen_default = True
             else:
-                if seen_default:
-                    raise TypeError("non-default argument %r follows default argument" % f.name)
                 params.append(f.name)
                 expr = f.name
         elif f.default_factory is not MISSING:
@@ -146,50 +196,47 @@ def _process(cls, frozen, slots, eq, repr_):
         else:
             continue                                  # init=False without a default: set later by the class
         body.append(assign % (f.name, expr))
-    if hasattr(cls, "__post_init__"):
+    if post_init:
         body.append("  self.__post_init__()")
-    lines = ["def __init__(self%s):" % "".join(", " + p for p in params)] + (body or ["  pass"])
-    shown = [f for f in flds if f.repr]
-    lines += ["def __repr__(self):",
-              "  return self.__class__.__qualname__ + '(' + %s + ')'" % (
-                  " + ', ' + ".join("%r + repr(self.%s)" % (f.name + "=", f.name) for f in shown) or "''")]
-    compared = "(%s)" % "".join("self.%s, " % f.name for f in flds if f.compare)
-    other = compared.replace("self.", "other.")
-    lines += ["def __eq__(self, other):",
-              "  if other.__class__ is self.__class__:",
-              "    return %s == %s" % (compared, other),
-              "  return NotImplemented",
-              "def __hash__(self):",
-              "  return hash(%s)" % compared,
-              "def __setattr__(self, name, value):",
-              "  raise FrozenInstanceError('cannot assign to field %r' % name)",
-              "def __delattr__(self, name):",
-              "  raise FrozenInstanceError('cannot delete field %r' % name)"]
-    exec("\n".join(lines), ns)                   # one compile for every method of the class
+    return "\n".join(["def __init__(self%s):" % "".join(", " + p for p in params)] + (body or ["  pass"]))
 
-    def put(name):
-        if name not in cls.__dict__:                  # a method the class writes itself is kept
-            setattr(cls, name, ns[name])
-    put("__init__")
-    if repr_:
-        put("__repr__")
-    if eq:
-        put("__eq__")
-        if "__hash__" not in cls.__dict__ or cls.__dict__["__hash__"] is None:
-            cls.__hash__ = ns["__hash__"] if frozen else None
-    if frozen:
-        put("__setattr__")
-        put("__delattr__")
-    for f in flds:                                    # class attributes: the defaults, as the standard module
-        if f.name in cls.__dict__ and isinstance(cls.__dict__[f.name], Field):
-            if f.default is MISSING:
-                delattr(cls, f.name)
-            else:
-                setattr(cls, f.name, f.default)
-    cls.__record_fields__ = tuple(flds)
-    if slots:
-        cls = _with_slots(cls, flds)
-    return cls
+
+def _check_order(flds):
+    """The error the standard module gives where a field without a default follows one with a default."""
+    seen_default = False
+    for f in flds:
+        if not f.init:
+            continue
+        if f.default is not MISSING or f.default_factory is not MISSING:
+            seen_default = True
+        elif seen_default:
+            raise TypeError("non-default argument %r follows default argument" % f.name)
+
+
+def _eq_source(names):
+    mine = "(%s)" % "".join("self.%s, " % n for n in names)
+    return "\n".join(["def __eq__(self, other):",
+                      "  if other.__class__ is self.__class__:",
+                      "    return %s == %s" % (mine, mine.replace("self.", "other.")),
+                      "  return NotImplemented"])
+
+
+def _hash_source(names):
+    return "def __hash__(self):\n  return hash((%s))" % "".join("self.%s, " % n for n in names)
+
+
+def _repr_of(names):
+    def __repr__(self):
+        return "%s(%s)" % (self.__class__.__qualname__, ", ".join("%s=%r" % (n, getattr(self, n)) for n in names))
+    return __repr__
+
+
+def _frozen_setattr(self, name, value):
+    raise FrozenInstanceError("cannot assign to field %r" % name)
+
+
+def _frozen_delattr(self, name):
+    raise FrozenInstanceError("cannot delete field %r" % name)
 
 
 def _with_slots(cls, flds):

@@ -99,6 +99,25 @@ def test_post_init_init_false_and_errors():
         records.fields(object())
 
 
+def test_methods_are_compiled_once_for_their_own_class():
+    @records.dataclass
+    class Base:
+        a: int = 1
+
+    @records.dataclass
+    class Derived(Base):
+        b: int = 2
+
+    class Plain(Base):              # not a record itself: the base's methods
+        pass
+
+    stub = Base.__dict__["__init__"]
+    assert Plain(5).a == 5 and Base.__dict__["__init__"] is not stub      # compiled on the first call, kept
+    assert Derived(3, 4) == Derived(3, 4) and Derived(3, 4) != Derived(3, 5) and Base(3) != Derived(3)
+    assert repr(Derived()) == "test_methods_are_compiled_once_for_their_own_class.<locals>.Derived(a=1, b=2)"
+    assert "__init__" in Derived.__dict__ and Derived.__dict__["__init__"] is not Base.__dict__["__init__"]
+
+
 def test_a_method_the_class_writes_is_kept_and_records_pickle():
     @records.dataclass
     class Shown:
