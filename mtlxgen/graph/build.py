@@ -388,10 +388,10 @@ class GraphBuilder:
         colorspace = (port.colorspace or declared.colorspace) if t == "filename" else None
         loc = port.loc
         name = unique_identifier("%s_%s" % (owner, declared.name), self.used_ids)
-        u = self.uniforms[name] = Uniform(name, t, value, loc, colorspace, None, bool(port.uniform or declared.uniform),
-                                          None if element is None else
-                                          Origin(element, declared.name,
-                                                 port is not declared if authored is None else authored))
+        self.uniforms[name] = Uniform(name, t, value, loc, colorspace, None, bool(port.uniform or declared.uniform),
+                                      None if element is None else
+                                      Origin(element, declared.name,
+                                             port is not declared if authored is None else authored))
         return Source(t, value, name, None, None, colorspace, port.unit or declared.unit,
                       port.unittype or declared.unittype, loc)
 
