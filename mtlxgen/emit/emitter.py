@@ -227,7 +227,8 @@ def lib_source(rels, target="glsl"):
 # library_code's pasted sections, per process: (rel, the code used_code kept, compact) -> the text pasted
 _SECTIONS = {}
 _SECTIONS_MAX = 4096
-# library_code's files with their switches resolved, per process: (files, their texts, switches) -> ((rel, text), ...)
+# library_code's files with their switches resolved, per process: (files, their texts, switches set, the switch
+# names) -> ((rel, text), ...)
 _SWITCHED_FILES = {}
 
 
@@ -800,7 +801,8 @@ class Emitter:
         switches = frozenset(self.paste_switches() | ENVIRONMENT_SWITCHES[self.environment])
         cache = _FILE_CACHE
         raw = tuple(cache[r][0] if r in cache else read_lib_file(r)[0] for r in files)
-        key = (tuple(files), raw, switches)     # (a str keeps its hash: the texts are hashed once)
+        # (a str keeps its hash: the texts are hashed once; glsldeps.SWITCHES: which names resolve_switches resolves)
+        key = (tuple(files), raw, switches, glsldeps.SWITCHES)
         texts = _SWITCHED_FILES.get(key)
         if texts is None:
             if len(_SWITCHED_FILES) >= _SECTIONS_MAX:
