@@ -10,6 +10,7 @@ is used only where every offset it holds falls inside the text; anything else is
 `remember` (glsldeps.used_code: once for each new set of files, not once per file) and the file is written when
 something was added; at most MAX_ENTRIES are kept (the file starts again from those of this process beyond that).
 """
+import _thread
 import marshal
 import os
 
@@ -21,6 +22,7 @@ _PREFIX = "glsl-split-"
 
 _entries = None             # key -> entry, as read from the file (None: not read yet)
 _added = {}                 # entries this process made, not yet written
+_lock = _thread.allocate_lock()     # the viewer generates on two threads: one of them reads or writes these at once
 
 
 # the splitter, whose code decides what a split holds (beside this module; not imported: it imports this one)
@@ -57,7 +59,8 @@ def find(rel, text):
     """The stored split of `text` (glsl_lib file `rel`): (header end, ((kind, names, uses, code_start, code_end,
     line, start, end), ...)) with every offset inside the text, or None."""
     k = key(rel, text)
-    entry = _added.get(k) or _loaded().get(k)
+    with _lock:
+        entry = _added.get(k) or _loaded().get(k)
     if not _sound(entry, len(text)):
         return None
     return entry
@@ -82,24 +85,30 @@ def add(rel, text, lib_file):
     """Keep the split `lib_file` (a glsldeps.LibFile) of `text` until the next save()."""
     items = tuple((it.kind, tuple(sorted(it.names)), tuple(sorted(it.uses)), it.code_start, it.code_end, it.line,
                    it.start, it.end) for it in lib_file.items)
-    _added[key(rel, text)] = (len(lib_file.header), items)
+    with _lock:
+        _added[key(rel, text)] = (len(lib_file.header), items)
 
 
 def save():
     """Write the entries added since the last save (with those of the file, up to MAX_ENTRIES); nothing where the
-    cache folder cannot be written."""
-    if not _added:
-        return
-    entries = dict(_loaded())
-    if len(entries) + len(_added) > MAX_ENTRIES:
-        entries = {}
-    entries.update(_added)
-    _added.clear()
-    _loaded().update(entries)
+    cache folder cannot be written. Saves run one at a time, so the last one written holds every entry saved."""
+    with _lock:
+        if not _added:
+            return
+        entries = dict(_loaded())
+        if len(entries) + len(_added) > MAX_ENTRIES:
+            entries = {}
+        entries.update(_added)
+        _added.clear()
+        _loaded().update(entries)
+        _write(entries)
+
+
+def _write(entries):
     body = marshal.dumps(entries, 4)
     path = _path()
     folder = os.path.dirname(path)
-    tmp = "%s.%d.tmp" % (path, os.getpid())
+    tmp = "%s.%d.%d.tmp" % (path, os.getpid(), _thread.get_ident())      # (one per writer)
     try:
         os.makedirs(folder, mode=0o700, exist_ok=True)
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NOFOLLOW", 0), 0o600)

@@ -80,3 +80,27 @@ def test_an_entry_that_does_not_fit_its_text_is_not_used(fresh_cache):
     assert splitcache.find(rel, text) is None
     splitcache._added[k] = ("x", items)
     assert splitcache.find(rel, text) is None
+
+
+def test_threads_splitting_and_saving_at_once_keep_a_sound_file(fresh_cache, tmp_path):
+    """The viewer generates on two threads: adds, finds and saves meet; the file read back holds every split."""
+    import threading
+    files = list(_lib_files())
+    errors = []
+
+    def work(part):
+        try:
+            for rel, text in part:
+                splitcache.add(rel, text, glsldeps.split(text, rel))
+                splitcache.find(rel, text)
+                splitcache.save()
+        except Exception as e:          # noqa: BLE001 (reported below)
+            errors.append(repr(e))
+    threads = [threading.Thread(target=work, args=(files[k::4],)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    fresh_cache()
+    assert all(splitcache.find(rel, text) is not None for rel, text in files)
