@@ -164,8 +164,19 @@ def test_a_worker_killed_mid_run_then_the_scheduler_stopped(project, dask_cluste
 
     out = str(tmp_path / "out2")
     check[check.index("-o") + 1] = out
-    rc, stdout, stderr, mid = _run_until_progress(check, str(project),
-                                                  lambda: dask_cluster.scheduler.send_signal(signal.SIGKILL))
+    alive = [w for w in dask_cluster.workers if w.poll() is None]
+
+    def stop_scheduler():
+        # the workers paused first: the renders left cannot finish in the moment the scheduler takes to die (12
+        # small renders take ~0.2 s; a result already on its way would make the run complete)
+        for w in alive:
+            w.send_signal(signal.SIGSTOP)
+        dask_cluster.scheduler.send_signal(signal.SIGKILL)
+    try:
+        rc, stdout, stderr, mid = _run_until_progress(check, str(project), stop_scheduler)
+    finally:
+        for w in alive:
+            w.send_signal(signal.SIGCONT)
     assert mid, "the scheduler was not stopped while the check ran:\n" + stderr
     assert rc == 1, stdout + stderr
     last = [line for line in stderr.splitlines() if not line.startswith("render: ")]
