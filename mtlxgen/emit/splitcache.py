@@ -105,38 +105,7 @@ def save():
 
 
 def _write(entries):
-    body = marshal.dumps(entries, 4)
     path = _path()
-    folder = os.path.dirname(path)
-    tmp = "%s.%d.%d.tmp" % (path, os.getpid(), _thread.get_ident())      # (one per writer)
-    try:
-        os.makedirs(folder, mode=0o700, exist_ok=True)
-        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NOFOLLOW", 0), 0o600)
-        with os.fdopen(fd, "wb") as f:
-            f.write(library_cache.MAGIC + library_cache.digest(body) + body)
-        os.replace(tmp, path)
-    except OSError:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        return
-    _prune(folder, path)
-
-
-def _prune(folder, keep):
-    """The files of earlier splitter versions removed (all but the four newest)."""
-    try:
-        found = []
-        for n in os.listdir(folder):
-            if n.startswith(_PREFIX) and (n.endswith(".bin") or n.endswith(".tmp")):
-                p = os.path.join(folder, n)
-                try:
-                    found.append((os.lstat(p).st_mtime, p))
-                except OSError:
-                    pass
-        for _, p in sorted(found, reverse=True)[4:]:
-            if p != keep:
-                os.unlink(p)
-    except OSError:
-        pass
+    if library_cache.store(path, marshal.dumps(entries, 4)):
+        # the files of earlier splitter versions removed (all but the four newest)
+        library_cache.prune(os.path.dirname(path), _PREFIX, (".bin", ".tmp"), 4, keep=path)

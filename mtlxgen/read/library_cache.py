@@ -15,6 +15,7 @@ rewritten. Folder: MTLXGEN_CACHE, else $XDG_CACHE_HOME/mtlxgen, else ~/.cache/mt
 libraries: site-packages may be read-only or shared); where it cannot be written the library is parsed and
 nothing is written. At most KEEP files are kept (the newest).
 """
+import _thread
 import marshal
 import os
 import stat
@@ -120,8 +121,15 @@ def _write(path, lib):
         body = marshal.dumps(_encode_library(lib), 4)
     except (ValueError, TypeError, AttributeError):
         return
+    if store(path, body):
+        prune(os.path.dirname(path), "library-", (".mxlib", ".pickle", ".tmp"), KEEP, keep=path)
+
+
+def store(path, body):
+    """Write a cache file: MAGIC, digest(body), body (atomically: a reader sees the old file or the whole new one;
+    each writer, process or thread, its own temporary file). False where the folder cannot be written."""
     folder = os.path.dirname(path)
-    tmp = "%s.%d.tmp" % (path, os.getpid())
+    tmp = "%s.%d.%d.tmp" % (path, os.getpid(), _thread.get_ident())
     try:
         os.makedirs(folder, mode=0o700, exist_ok=True)
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NOFOLLOW", 0), 0o600)
@@ -133,24 +141,23 @@ def _write(path, lib):
             os.unlink(tmp)
         except OSError:
             pass
-        return
-    _prune(folder, keep=path)
+        return False
+    return True
 
 
-def _prune(folder, keep):
-    """Remove all but the KEEP newest library cache files (and any older pickles of earlier versions)."""
+def prune(folder, prefix, suffixes, count, keep):
+    """Remove all but the `count` newest files of `folder` named prefix...suffix (never `keep`)."""
     try:
-        names = [n for n in os.listdir(folder) if n.startswith("library-")
-                 and (n.endswith((".mxlib", ".pickle")) or n.endswith(".tmp"))]
         entries = []
-        for n in names:
-            p = os.path.join(folder, n)
-            try:
-                entries.append((os.lstat(p).st_mtime, p))
-            except OSError:
-                pass
+        for n in os.listdir(folder):
+            if n.startswith(prefix) and n.endswith(suffixes):
+                p = os.path.join(folder, n)
+                try:
+                    entries.append((os.lstat(p).st_mtime, p))
+                except OSError:
+                    pass
         entries.sort(reverse=True)
-        for _, p in entries[KEEP:]:
+        for _, p in entries[count:]:
             if p != keep:
                 os.unlink(p)
     except OSError:
