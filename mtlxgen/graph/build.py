@@ -373,6 +373,17 @@ class GraphBuilder:
         parse is the input's problem, as for a node's input). element: the name path of the document element whose
         input it is (the uniform's Origin); None inside an implementation (a library's input, not the document's).
         authored: the document writes the input (default: `port` is not `declared`, the nodedef's own)."""
+        if port is declared:        # an input the document leaves out (most of a shader node's): read once
+            default = _DEFAULT_UNIFORMS.get(id(declared))
+            if default is None:
+                default = _default_uniform(declared)
+            if default:
+                _, t, value, marked, unit, unittype = default
+                name = unique_identifier(owner + "_" + declared.name, self.used_ids)
+                self.uniforms[name] = Uniform(name, t, value, declared.loc, None, None, marked,
+                                              None if element is None else
+                                              Origin(element, declared.name, bool(authored)))
+                return Source(t, value, name, None, None, None, unit, unittype, declared.loc)
         if port.error:
             raise MtlxError((port.loc, port.error))
         value = port.value
@@ -591,20 +602,8 @@ class GraphBuilder:
         public, memo, scope_key = scope.public, self.memo, scope.key
         # the name path of the element whose public inputs these are (their uniforms' Origin)
         element = ((scope.graph.name + "/" if scope.graph is not None else "") + node.name) if public else None
-        uniforms, used_ids = self.uniforms, self.used_ids
         for name, decl in nd.inputs.items():
             port = node_port(name)
-            if port is None and public:         # (most inputs of a shader node: its default, a public uniform)
-                default = _DEFAULT_UNIFORMS.get(id(decl))
-                if default is None:
-                    default = _default_uniform(decl)
-                if default:                     # what public_value makes of it, read once per nodedef input
-                    _, dtype, value, marked, unit, unittype = default
-                    uname = unique_identifier(stem + "_" + name, used_ids)
-                    uniforms[uname] = Uniform(uname, dtype, value, decl.loc, None, None, marked,
-                                              Origin(element, name, False))
-                    inputs[name] = Source(dtype, value, uname, None, None, None, unit, unittype, decl.loc)
-                    continue
             dtype = decl.type
             src = None
             if port is not None:
