@@ -1,18 +1,9 @@
-// requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl lighting/environment_prefiltered_lookup.glsl pbrlib/microfacet/ggx.glsl
+// requires: constants.glsl lighting/environment.glsl lighting/environment_lod.glsl lighting/hammersley.glsl lighting/environment_prefiltered_lookup.glsl pbrlib/microfacet/ggx.glsl
 // Environment light in a GGX lobe for the Enterprise PBR material. The lobe's shape comes from filtered
 // importance sampling of visible normals (Krivanek & Colbert 2008, "Real-time Shading with Filtered
 // Importance Sampling"; Heitz 2018, "Sampling the GGX Distribution of Visible Normals") and is
 // normalised: the result is the lobe-weighted mean radiance, which the caller scales by the lobe's
 // tabulated albedo. So uniform light is reflected exactly in the amount the energy tables give.
-
-// Mip level covering one sample's solid angle 1 / (n pdf) on a lat-long map (Krivanek & Colbert 2008 eq. 8).
-float mg_epbr_env_lod(vec3 dir, float pdf, int n)
-{
-    vec2 size = vec2(textureSize(u_envRadiance, 0));
-    float omega_s = 1.0 / (float(n) * max(pdf, 1.0e-8));
-    float omega_p = 2.0 * MG_PI * MG_PI * sqrt(max(1.0 - dir.y * dir.y, 1.0e-4)) / (size.x * size.y);
-    return clamp(0.5 * log2(omega_s / omega_p) + 1.0, 0.0, float(u_envRadianceMips - 1));
-}
 
 // Mean radiance over the GGX reflection lobe of V (weights G2 / G1(v), the VNDF estimator's).
 vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
@@ -28,6 +19,7 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 sum = vec3(0.0);
     float wsum = 0.0;
+    float lod_base = mg_env_lod_base(mg_env_sample_total(n));
     for (int i = 0; i < n; ++i)
     {
         vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
@@ -37,7 +29,7 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
         vec3 L = frame * Lt;
         float w = mg_ggx_G2(Lt, Vt, alpha) / G1V;
-        sum += mg_env_radiance(L, mg_epbr_env_lod(L, pdf, mg_env_sample_total(n))) * w;
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, lod_base)) * w;
         wsum += w;
     }
     if (wsum <= 0.0)

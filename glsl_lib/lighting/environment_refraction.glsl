@@ -46,6 +46,7 @@ vec3 NAME(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_wa
     vec3 sum = vec3(0.0); \
     share = vec3(0.0); \
     reflected = vec3(0.0); \
+    float lod_base = mg_env_lod_base(mg_env_sample_total(n)); \
     for (int i = 0; i < n; ++i) \
     { \
         vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n)); \
@@ -54,7 +55,7 @@ vec3 NAME(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_wa
         vec3 L = frame * Lt; \
         vec3 F = FRESNEL(fr, clamp(dot(Vt, H), 0.0, 1.0)); \
         vec3 w = max(1.0 - F, 0.0); \
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * w; \
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, lod_base)) * w; \
         share += w; \
         vec3 Lr = reflect(-Vt, H); \
         if (Lr.z > 0.0) \

@@ -1,24 +1,9 @@
-// requires: constants.glsl lighting/environment.glsl lighting/hammersley.glsl lighting/environment_prefiltered_lookup.glsl pbrlib/microfacet/ggx.glsl pbrlib/microfacet/fresnel_model.glsl pbrlib/microfacet/albedo.glsl
+// requires: constants.glsl lighting/environment.glsl lighting/environment_lod.glsl lighting/hammersley.glsl lighting/environment_prefiltered_lookup.glsl pbrlib/microfacet/ggx.glsl pbrlib/microfacet/fresnel_model.glsl pbrlib/microfacet/albedo.glsl
 // Environment light reflected by a GGX lobe. Default: filtered importance sampling (Krivanek & Colbert
 // 2008, "Real-time Shading with Filtered Importance Sampling") of visible normals with u_envRadianceSamples
 // Hammersley points; define MG_ENV_PREFILTERED for the split-sum alternative (Karis 2013, "Real Shading
 // in Unreal Engine 4"): u_envRadiance is then the GGX-prefiltered map (lighting/environment_prefilter.glsl), read
 // once at the level holding the lobe's roughness, times the lobe's albedo from our own table.
-#ifndef MG_ENV_LOD_BIAS
-#define MG_ENV_LOD_BIAS 1.0
-#endif
-
-// Mip level whose texels cover the solid angle of one sample of density pdf among n
-// (Krivanek & Colbert 2008 eq. 8: lod = 1/2 log2(Omega_s / Omega_p) + bias), for a lat-long map whose
-// texels span 2 pi^2 cos(elevation) / (w h) steradians.
-float mg_env_lod(vec3 dir, float pdf, int n)
-{
-    vec2 size = vec2(textureSize(u_envRadiance, 0));
-    float omega_s = 1.0 / (float(n) * max(pdf, 1.0e-8));
-    float cos_el = sqrt(max(1.0 - dir.y * dir.y, 1.0e-4));
-    float omega_p = 2.0 * MG_PI * MG_PI * cos_el / (size.x * size.y);
-    return clamp(0.5 * log2(omega_s / omega_p) + MG_ENV_LOD_BIAS, 0.0, float(u_envRadianceMips - 1));
-}
 
 // The lobe's albedo for the split sum: the Schlick-split albedo, plus the node's own Fresnel curve's
 // departure from its Schlick endpoints at the view angle (exact for a mirror; conductors, F82 and films
@@ -40,7 +25,7 @@ vec3 mg_retro(vec3 Lt)
 }
 
 // The sample loop of mg_env_specular over the Fresnel curve FRESNEL(fr, cosine): NAME sums over n samples the
-// reflected radiance times F G2 / G1(v), each read at the level of the reflected direction's density
+// reflected radiance times F G2 / G1(v), each read at the level (lighting/environment_lod.glsl) of the reflected direction's density
 // D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v). One loop, whose curve tests the lobe's thin film per sample
 // (mg_fresnel_eval; the thickness is a uniform, so every pixel takes the same side): a film's copy of the loop
 // beside the bare curve's cost the GPU compilers 10% more instructions and compile time for no draw time gained on
@@ -50,6 +35,7 @@ vec3 mg_retro(vec3 Lt)
 vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, float G1V) \
 { \
     vec3 sum = vec3(0.0); \
+    float lod_base = mg_env_lod_base(mg_env_sample_total(n)); \
     for (int i = 0; i < n; ++i) \
     { \
         vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n)); \
@@ -60,7 +46,7 @@ vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, floa
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z); \
         vec3 L = frame * (retro ? mg_retro(Lt) : Lt); \
         vec3 F = FRESNEL(fr, VdotH); \
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_sample_total(n))) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, lod_base)) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
     } \
     return sum; \
 }

@@ -26,7 +26,8 @@ vec2 mg_hammersley(int i, int n)
 // u_envSampleFrames draws the points k n .. k n + n - 1 of the first two dimensions of Sobol's sequence
 // (Sobol 1967), a (0, 2)-sequence in base 2: for n a power of two each frame's block is a (0, m, 2)-net on its
 // own, and the K frames' blocks together are the first n K points, so the mean of the K images is an estimate
-// with n K samples. With one frame (the defaults) the points are the Hammersley set, as before.
+// with n K samples. With one frame (the defaults) the points are the Hammersley set, as before. MG_ENV_ONE_FRAME
+// (a reduced shader that keeps neither uniform: they are constants) leaves the frames' code out.
 
 // Sobol's second dimension: bit j of t contributes the j-th row of Pascal's triangle mod 2, read from the top bit.
 // By Lucas' theorem C(j, k) is odd exactly when the bits of k are among those of j, so bit k of the reversed result
@@ -44,16 +45,24 @@ uint mg_sobol2(uint t)
 
 vec2 mg_env_sample_point(int i, int n)
 {
+#ifndef MG_ENV_ONE_FRAME
     int frames = max(u_envSampleFrames, 1);
-    if (frames == 1)
-        return mg_hammersley(i, n);
-    uint t = uint(clamp(u_envSampleFrame, 0, frames - 1) * n + i);
-    float x = float(mg_reverse_bits(t)) * 2.3283064365386963e-10 + 0.5 / float(n * frames);
-    return vec2(x, float(mg_sobol2(t)) * 2.3283064365386963e-10);
+    if (frames > 1)
+    {
+        uint t = uint(clamp(u_envSampleFrame, 0, frames - 1) * n + i);
+        float x = float(mg_reverse_bits(t)) * 2.3283064365386963e-10 + 0.5 / float(n * frames);
+        return vec2(x, float(mg_sobol2(t)) * 2.3283064365386963e-10);
+    }
+#endif
+    return mg_hammersley(i, n);
 }
 
 // The number of samples the frames together take: what a sample's filtered lookup is sized for.
 int mg_env_sample_total(int n)
 {
+#ifdef MG_ENV_ONE_FRAME
+    return n;
+#else
     return n * max(u_envSampleFrames, 1);
+#endif
 }

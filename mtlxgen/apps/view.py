@@ -132,6 +132,10 @@ def is_zero(value):
     return isinstance(value, (int, float)) and value == 0
 
 
+# kept in the viewer's reduced shaders (it accumulates frames: interface.PROGRESSIVE; either name keeps both)
+PROGRESSIVE_KEPT = "u_envSampleFrames"
+
+
 class OurGenerator:
     """mtlxgen's pipeline as the viewer drives it: open() reads a document (a pipeline.Session), shader()
     generates one element. Another generator (a benchmark's MaterialX one) offers the same four methods.
@@ -149,6 +153,8 @@ class OurGenerator:
         # options.GenerateOptions (None: the defaults); a light rig given: max_lights, its shaders loop over lights.
         # The environment method is each open()'s (E toggles it).
         self.options = GenerateOptions.of(options)
+        if self.options.interface == "reduced":     # the viewer refines progressively: the frame pair stays uniforms
+            self.options = self.options.replace(keep=tuple(self.options.keep) + ((PROGRESSIVE_KEPT, None),))
         self.library_dirs = self.options.library_dirs
         self.specialize = specialize and self.options.interface == "complete"
         self.kept = {}                      # element -> uniforms kept for good (specialize)
@@ -199,7 +205,7 @@ class OurGenerator:
                 if u.type not in LITERAL_TYPES or u.value is None or not is_zero(u.value):
                     kept.add(n)
             keep = sorted(n for n in g.uniforms if n in kept)
-        s = session.shader(name, Interface("reduced", [(n, None) for n in keep]), graph=g)
+        s = session.shader(name, Interface("reduced", [(n, None) for n in keep + [PROGRESSIVE_KEPT]]), graph=g)
         s.manifest["folded"] = sorted(n for n in g.uniforms if n not in kept)
         return s
 

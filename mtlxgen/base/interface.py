@@ -61,6 +61,11 @@ TABLE = {u.name: u for u in [
 
 SAMPLER_TYPES = ("sampler2D",)
 
+# Progressive refinement's pair: a reduced shader, made for one use, reads them as constants at their defaults (one
+# frame's estimate: the progressive sample points' code folds away) unless `--keep` names either (passes/reduce.py:
+# both are then kept). The complete interface always has them.
+PROGRESSIVE = ("u_envSampleFrame", "u_envSampleFrames")
+
 
 def types_needed(names, max_lights=MAX_LIGHTS):
     """GLSL declarations the named uniforms' types need before them (the light record and its length)."""

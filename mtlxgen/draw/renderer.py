@@ -557,6 +557,13 @@ class Renderer:
         for name, m in mats.items():
             prepared.set(name, np.ascontiguousarray(m.T, dtype="f4").tobytes())
         from mtlxgen.base.interface import TABLE        # the application interface: what is bound here, and the defaults
+        if int(sample_frame[1]) > 1:
+            application = {a.get("name") for a in (prepared.manifest or {}).get("application", ())}
+            if "u_envRadiance" in application and "u_envSampleFrames" not in application:
+                raise MtlxError((Loc(prepared.manifest.get("element", "shader"), 0),
+                                 "generated without progressive refinement (a reduced shader reads one frame): "
+                                 "generate it with --keep u_envSampleFrames to draw frame %d of %d"
+                                 % (int(sample_frame[0]), int(sample_frame[1]))))
         scalars = {"u_viewPosition": tuple(float(x) for x in camera.eye), "u_envRadianceMips": self.env_mips,
                    "u_envRadianceSamples": self.env_samples if env_samples is None else env_samples,
                    "u_envLightIntensity": TABLE["u_envLightIntensity"].default,

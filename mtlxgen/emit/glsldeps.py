@@ -440,7 +440,9 @@ def split(text, rel="<glsl>"):
 #   MG_NO_THIN_FILM  no closure of the shader has a thin film (every thinfilm_thickness a literal <= 0)
 #   MG_ENV_PREFILTERED, MG_REFRACTION_PREFILTERED  the environment method is the split sum (--environment
 #                    prefiltered; emit.ENVIRONMENT_SWITCHES): a fis shader holds none of its code
-SWITCHES = ("MG_NO_THIN_FILM", "MG_ENV_PREFILTERED", "MG_REFRACTION_PREFILTERED")
+#   MG_ENV_ONE_FRAME  progressive refinement's pair is constant (a reduced shader that keeps neither: Graph.app_constants):
+#                    the sample points are one frame's Hammersley set, without the progressive frames' code
+SWITCHES = ("MG_NO_THIN_FILM", "MG_ENV_PREFILTERED", "MG_REFRACTION_PREFILTERED", "MG_ENV_ONE_FRAME")
 _DIRECTIVE = re.compile(r"\s*#\s*(ifdef|ifndef|if|else|elif|endif)\b\s*(\w*)")
 
 

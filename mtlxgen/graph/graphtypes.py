@@ -88,3 +88,5 @@ class Graph:
     # closure guards are decided on literal inputs at generation time (the fold pass: the reduced interface)
     static_guards: bool = False
     closure_plan: object = None       # closureplan.ClosurePlan (the closures pass; the emitter makes one where none)
+    # application uniforms read as constants at their defaults (the reduced interface: interface.PROGRESSIVE)
+    app_constants: frozenset = frozenset()

@@ -11,7 +11,9 @@ uniform where
   - it cannot be a literal: a texture (sampler), an array or a struct value.
 A NAME is a uniform's name as the complete manifest lists it (`SR_default_base_color`), or `NODE/INPUT`
 (`SR_default/base_color`, also `NODE.INPUT`) which names the same uniform. The application uniforms (matrices, view
-position, environment, lights) are not the material's inputs: they are always uniforms.
+position, environment, lights) are not the material's inputs: they are always uniforms, but for progressive
+refinement's pair (interface.PROGRESSIVE: frame k of K), which a reduced shader reads as constants at their defaults
+(one frame's estimate) unless a kept name is either of them.
 
 reduce() is a graph pass: a Graph in, a new Graph out (the input graph is never changed); fold.py then evaluates what
 became constant.
@@ -20,6 +22,7 @@ import json
 import re
 from mtlxgen.base.records import dataclass, field, replace
 
+from mtlxgen.base import interface as app_interface
 from mtlxgen.base.diagnostics import Loc, MtlxError
 from mtlxgen.graph.build import Source, glsl_identifier
 
@@ -131,6 +134,9 @@ def reduce(graph, iface):
     for name, _ in iface.keep:
         for u in uniform_names(name):
             wanted.setdefault(u, []).append(name)
+    progressive = [name for name in wanted if name in app_interface.PROGRESSIVE]
+    for name in progressive:                # names of the application interface: they always name something
+        iface.matched.update(wanted[name])
     literal, kept = {}, []
     for name, u in graph.uniforms.items():
         if name in wanted:
@@ -149,5 +155,6 @@ def reduce(graph, iface):
     nodes = [replace(n, inputs={k: lit(s) for k, s in n.inputs.items()}, outputs=dict(n.outputs),
                      static=dict(n.static)) for n in graph.nodes]
     uniforms = {k: replace(u) for k, u in graph.uniforms.items() if k not in literal}
-    return replace(graph, nodes=nodes, uniforms=uniforms, result=lit(graph.result),
-                   warnings=list(graph.warnings)), kept
+    constants = frozenset() if progressive else frozenset(app_interface.PROGRESSIVE)
+    return replace(graph, nodes=nodes, uniforms=uniforms, result=lit(graph.result), warnings=list(graph.warnings),
+                   app_constants=constants), kept

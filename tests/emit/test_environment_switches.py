@@ -28,7 +28,7 @@ DOC = """
   </surfacematerial>"""
 
 PREFILTERED_ONLY = ("mg_env_prefiltered_lobe", "mg_env_lod_prefiltered")
-FIS_ONLY = ("mg_env_specular_samples", "mg_env_refraction_samples", "mg_epbr_env_lod")
+FIS_ONLY = ("mg_env_specular_samples", "mg_env_refraction_samples", "mg_env_lod_base")
 SWITCH_NAMES = ("MG_ENV_PREFILTERED", "MG_REFRACTION_PREFILTERED")
 
 
@@ -86,7 +86,7 @@ def _preprocessed_prefiltered(path, monkeypatch):
         first, _, rest = s.fragment.partition("\n")
         s.fragment = "\n".join([first] + ["#define " + n for n in SWITCH_NAMES] + [rest])
         assert "#ifdef MG_ENV_PREFILTERED" in s.fragment and "mg_env_prefiltered_lobe" in s.fragment
-        assert "mg_env_specular_samples" in s.fragment or "mg_epbr_env_lod" in s.fragment
+        assert "mg_env_specular_samples" in s.fragment or "mg_env_lod_base" in s.fragment
     return shaders
 
 

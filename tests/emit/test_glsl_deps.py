@@ -82,7 +82,7 @@ def test_macro_invocations_define_what_their_expansion_defines():
 
 
 def test_conditional_groups_are_one_item():
-    lf = lib("lighting/environment_specular.glsl")
+    lf = lib("lighting/environment_lod.glsl")
     group = lf.items[0]
     assert group.kind == "conditional" and group.names == {"MG_ENV_LOD_BIAS"}
     assert lf.item_text(group).strip().startswith("#ifndef MG_ENV_LOD_BIAS")

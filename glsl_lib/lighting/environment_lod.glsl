@@ -1,0 +1,25 @@
+// requires: constants.glsl lighting/environment.glsl
+// The mip level of filtered importance sampling (Krivanek & Colbert 2008, "Real-time Shading with Filtered
+// Importance Sampling", eq. 8): lod = 1/2 log2(Omega_s / Omega_p) + bias, Omega_s = 1 / (n pdf) the solid angle
+// of one of n samples of density pdf, Omega_p = 2 pi^2 cos(elevation) / (w h) the solid angle of a w x h
+// lat-long map's texel at the sample's elevation. Split as
+//     lod = [1/2 log2(w h / (2 pi^2 n)) + bias] - 1/2 log2(pdf cos(elevation)),
+// the bracket the same for every sample of a loop (mg_env_lod_base, computed once before it) and the rest per
+// sample (mg_env_lod): a texture-size query and a division less per sample.
+#ifndef MG_ENV_LOD_BIAS
+#define MG_ENV_LOD_BIAS 1.0
+#endif
+
+// The part of the level shared by a loop's samples, n the number of samples taken in all.
+float mg_env_lod_base(int n)
+{
+    vec2 size = vec2(textureSize(u_envRadiance, 0));
+    return 0.5 * log2(size.x * size.y / (2.0 * MG_PI * MG_PI * float(n))) + MG_ENV_LOD_BIAS;
+}
+
+// The level for one sample of density pdf in direction dir, clamped to the map's mip chain.
+float mg_env_lod(vec3 dir, float pdf, float base)
+{
+    float cos_el = sqrt(max(1.0 - dir.y * dir.y, 1.0e-4));
+    return clamp(base - 0.5 * log2(max(pdf, 1.0e-8) * cos_el), 0.0, float(u_envRadianceMips - 1));
+}
