@@ -4,17 +4,26 @@
 // of one of n samples of density pdf, Omega_p = 2 pi^2 cos(elevation) / (w h) the solid angle of a w x h
 // lat-long map's texel at the sample's elevation. Split as
 //     lod = [1/2 log2(w h / (2 pi^2 n)) + bias] - 1/2 log2(pdf cos(elevation)),
-// the bracket the same for every sample of a loop (mg_env_lod_base, computed once before it) and the rest per
-// sample (mg_env_lod): a texture-size query and a division less per sample.
+// the bracket the same for every sample of a loop (mg_env_lod_base) and the rest per sample (mg_env_lod). A sampler
+// reads the map's size before its loop (mg_env_texels: one read for all the shader's samplers) and computes the
+// bracket inside it: a float computed before the loop stays live across it, and gave complete shaders 168 VGPRs
+// instead of 128 on RADV's ACO (benchmarks/bench_gpu_compilers.py, 2026-11-28).
 #ifndef MG_ENV_LOD_BIAS
 #define MG_ENV_LOD_BIAS 1.0
 #endif
 
-// The part of the level shared by a loop's samples, n the number of samples taken in all.
-float mg_env_lod_base(int n)
+// The radiance map's texel count w h: an integer, so a sampler reads it once before its loop (GPU compilers keep a
+// uniform integer in a scalar register, and merge the reads of the shader's samplers into one).
+int mg_env_texels()
 {
-    vec2 size = vec2(textureSize(u_envRadiance, 0));
-    return 0.5 * log2(size.x * size.y / (2.0 * MG_PI * MG_PI * float(n))) + MG_ENV_LOD_BIAS;
+    ivec2 size = textureSize(u_envRadiance, 0);
+    return size.x * size.y;
+}
+
+// The part of the level shared by a loop's samples, for a map of `texels` texels and n samples taken in all.
+float mg_env_lod_base(int texels, int n)
+{
+    return 0.5 * log2(float(texels) / (2.0 * MG_PI * MG_PI * float(n))) + MG_ENV_LOD_BIAS;
 }
 
 // The level for one sample of density pdf in direction dir, clamped to the map's mip chain.

@@ -38,7 +38,7 @@ vec3 mg_refraction_exit(vec3 I, vec3 M, float ior, bool thin_walled)
 // The sample loop of mg_env_refraction over the Fresnel curve FRESNEL(fr, cosine), as MG_ENV_SPECULAR_SAMPLES: NAME
 // returns the sum of the radiance transmitted through each sample's facet times its share w = 1 - F, and sets share
 // to the sum of the shares and reflected to the same samples' reflection as the node's reflection lobe weighs it
-// (F G2 / G1(v), as mg_env_specular), for the cap.
+// (F G2 / G1(v), as mg_env_specular), for the cap. A mirror (mg_ggx_is_mirror) takes one sample, along the normal.
 #define MG_ENV_REFRACTION_SAMPLES(NAME, FRESNEL) \
 vec3 NAME(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_walled, int n, float G1V, \
           out vec3 share, out vec3 reflected) \
@@ -46,19 +46,21 @@ vec3 NAME(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_wa
     vec3 sum = vec3(0.0); \
     share = vec3(0.0); \
     reflected = vec3(0.0); \
-    float lod_base = mg_env_lod_base(mg_env_sample_total(n)); \
+    bool mirror = mg_ggx_is_mirror(alpha); \
+    int texels = mg_env_texels(); \
     for (int i = 0; i < n; ++i) \
     { \
         vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n)); \
+        H = mirror ? vec3(0.0, 0.0, 1.0) : H; \
         vec3 Lt = mg_refraction_exit(-Vt, H, ior, thin_walled); \
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z); \
         vec3 L = frame * Lt; \
         vec3 F = FRESNEL(fr, clamp(dot(Vt, H), 0.0, 1.0)); \
         vec3 w = max(1.0 - F, 0.0); \
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, lod_base)) * w; \
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n)))) * w; \
         share += w; \
         vec3 Lr = reflect(-Vt, H); \
-        if (Lr.z > 0.0) \
+        if (mirror || Lr.z > 0.0) \
             reflected += F * (mg_ggx_G2(Lr, Vt, alpha) / G1V); \
     } \
     return sum; \
@@ -92,7 +94,7 @@ vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel
     vec3 Vt = V * frame;
     Vt.z = max(Vt.z, 1.0e-4);
     Vt = normalize(Vt);
-    int n = max(u_envRadianceSamples, 1);
+    int n = mg_ggx_is_mirror(alpha) ? 1 : max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 share, reflected;
     vec3 sum = mg_env_refraction_samples(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);

@@ -26,7 +26,7 @@ vec3 mg_retro(vec3 Lt)
 
 // The sample loop of mg_env_specular over the Fresnel curve FRESNEL(fr, cosine): NAME sums over n samples the
 // reflected radiance times F G2 / G1(v), each read at the level (lighting/environment_lod.glsl) of the reflected direction's density
-// D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v). One loop, whose curve tests the lobe's thin film per sample
+// D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v); a mirror (mg_ggx_is_mirror) takes one sample, along the normal. One loop, whose curve tests the lobe's thin film per sample
 // (mg_fresnel_eval; the thickness is a uniform, so every pixel takes the same side): a film's copy of the loop
 // beside the bare curve's cost the GPU compilers 10% more instructions and compile time for no draw time gained on
 // llvmpipe (docs/measuring.md, 2026-11-27). (The backslashes are not aligned: a macro is joined into one line,
@@ -35,18 +35,20 @@ vec3 mg_retro(vec3 Lt)
 vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, float G1V) \
 { \
     vec3 sum = vec3(0.0); \
-    float lod_base = mg_env_lod_base(mg_env_sample_total(n)); \
+    bool mirror = mg_ggx_is_mirror(alpha); \
+    int texels = mg_env_texels(); \
     for (int i = 0; i < n; ++i) \
     { \
         vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n)); \
+        H = mirror ? vec3(0.0, 0.0, 1.0) : H; \
         vec3 Lt = reflect(-Vt, H); \
-        if (Lt.z <= 0.0) \
+        if (!mirror && Lt.z <= 0.0) \
             continue; \
         float VdotH = clamp(dot(Vt, H), 0.0, 1.0); \
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z); \
         vec3 L = frame * (retro ? mg_retro(Lt) : Lt); \
         vec3 F = FRESNEL(fr, VdotH); \
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, lod_base)) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
+        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n)))) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
     } \
     return sum; \
 }
@@ -62,7 +64,7 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
 #ifdef MG_ENV_PREFILTERED
     return mg_env_prefiltered_lobe(Vt, frame, alpha, retro) * mg_ggx_albedo_at_view(Vt.z, alpha, fr);
 #else
-    int n = max(u_envRadianceSamples, 1);
+    int n = mg_ggx_is_mirror(alpha) ? 1 : max(u_envRadianceSamples, 1);
     float G1V = mg_ggx_G1(Vt, alpha);
     return mg_env_specular_samples(Vt, frame, alpha, fr, retro, n, G1V) / float(n);
 #endif

@@ -121,7 +121,7 @@ def _stride_body(node, em, out, i, diffuse_model, cel_ramp, workflow, fresnel, v
         em.line("%s.color += mg_diffuse * mg_env_irradiance(mg_N);" % out)
     em.line("int mg_n = max(u_envRadianceSamples, 1);")
     em.line("vec3 mg_specular = vec3(0.0);")
-    em.line("float mg_lod_base = mg_env_lod_base(mg_env_sample_total(mg_n));")
+    em.line("int mg_texels = mg_env_texels();")
     em.line("for (int mg_s = 0; mg_s < mg_n; ++mg_s)")
     em.open_block("indirect")
     em.line("vec2 mg_xi = mg_env_sample_point(mg_s, mg_n);")
@@ -134,7 +134,7 @@ def _stride_body(node, em, out, i, diffuse_model, cel_ramp, workflow, fresnel, v
     _specular_terms(em, fresnel, vis, ndf)
     em.line("// density of mg_L: D NH / (4 LH); the estimate F V D/4 NL / pdf = F V NL LH / NH")
     em.line("float mg_pdf = mg_D * mg_NH / (4.0 * max(mg_LH, 1.0e-4));")
-    em.line("mg_specular += mg_env_radiance(mg_L, mg_env_lod(mg_L, mg_pdf, mg_lod_base)) * mg_F"
+    em.line("mg_specular += mg_env_radiance(mg_L, mg_env_lod(mg_L, mg_pdf, mg_env_lod_base(mg_texels, mg_env_sample_total(mg_n)))) * mg_F"
             " * (mg_Vis * mg_NL * mg_LH / max(mg_NH, 1.0e-4));")
     em.close_block()
     em.line("%s.color += mg_specular / float(mg_n);" % out)

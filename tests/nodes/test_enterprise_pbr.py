@@ -231,7 +231,8 @@ def bsdf_eval():
     quad = ctx.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32).tobytes())
     lib = lib_source(["constants.glsl", "closures.glsl", "pbrlib/microfacet/fresnel.glsl",
                                                  "pbrlib/microfacet/thin_film.glsl", "pbrlib/microfacet/ggx.glsl",
-                                                 "lighting/environment.glsl", "lighting/hammersley.glsl",
+                                                 "lighting/environment.glsl", "lighting/environment_lod.glsl",
+                                                 "lighting/hammersley.glsl",
                                                  "enterprise/tables.glsl", "enterprise/frame.glsl",
                                                  "enterprise/fresnel.glsl", "enterprise/specular.glsl",
                                                  "enterprise/diffuse.glsl", "enterprise/sheen.glsl",

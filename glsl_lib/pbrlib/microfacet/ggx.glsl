@@ -18,9 +18,20 @@ mat3 mg_tangent_frame(vec3 N, vec3 T)
 }
 
 // Roughness input to GGX alpha, kept away from the singular mirror limit.
+const float MG_GGX_ALPHA_MIN = 1.0e-4;
 vec2 mg_ggx_alpha(vec2 roughness)
 {
-    return clamp(roughness, vec2(1.0e-4), vec2(1.0));
+    return clamp(roughness, vec2(MG_GGX_ALPHA_MIN), vec2(1.0));
+}
+
+// A lobe at the floor in both directions is a mirror to the environment's samplers: its visible normals lie within
+// about 1e-4 rad of the normal, its reflected directions within 2e-4 rad of the mirror direction (a 1024-texel
+// lat-long map's texel spans 6e-3 rad), read at level 0, each with F(v.h) G2 / G1 within 1e-4 of F(n.v): one sample
+// along the normal itself is their mean. With a literal roughness of 0 (the reduced interface) the sample loop is
+// then one straight pass, and a mirror drawn with the complete interface takes one texture read, not n.
+bool mg_ggx_is_mirror(vec2 alpha)
+{
+    return max(alpha.x, alpha.y) <= MG_GGX_ALPHA_MIN;
 }
 
 // Anisotropic GGX normal distribution (Walter et al. 2007 eq. 33; anisotropic form of Burley 2012 eq. 13).
