@@ -15,8 +15,8 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
     // split sum (Karis 2013): the GGX-prefiltered map at the lobe's level (lighting/environment_prefiltered_lookup.glsl)
     return mg_env_prefiltered_lobe(Vt, frame, alpha, false);
 #else
-    bool mirror = mg_ggx_is_mirror(alpha);       // one sample, along the normal (pbrlib/microfacet/ggx.glsl)
-    int n = mirror ? 1 : max(u_envRadianceSamples, 1);
+    bool mirror = mg_ggx_is_mirror(alpha);      // one sample, along the normal (microfacet/ggx.glsl)
+    int n = mg_env_lobe_samples(alpha);
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 sum = vec3(0.0);
     float wsum = 0.0;
@@ -31,7 +31,8 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
         vec3 L = frame * Lt;
         float w = mg_ggx_G2(Lt, Vt, alpha) / G1V;
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n)))) * w;
+        float lod = mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n)));
+        sum += mg_env_radiance(L, lod) * w;
         wsum += w;
     }
     if (wsum <= 0.0)

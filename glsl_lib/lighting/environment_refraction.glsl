@@ -57,7 +57,8 @@ vec3 NAME(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_wa
         vec3 L = frame * Lt; \
         vec3 F = FRESNEL(fr, clamp(dot(Vt, H), 0.0, 1.0)); \
         vec3 w = max(1.0 - F, 0.0); \
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n)))) * w; \
+        float lod = mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n))); \
+        sum += mg_env_radiance(L, lod) * w; \
         share += w; \
         vec3 Lr = reflect(-Vt, H); \
         if (mirror || Lr.z > 0.0) \
@@ -94,7 +95,7 @@ vec3 mg_env_refraction(vec3 V, vec3 N, vec3 Tg, float ior, vec2 alpha, MgFresnel
     vec3 Vt = V * frame;
     Vt.z = max(Vt.z, 1.0e-4);
     Vt = normalize(Vt);
-    int n = mg_ggx_is_mirror(alpha) ? 1 : max(u_envRadianceSamples, 1);
+    int n = mg_env_lobe_samples(alpha);
     float G1V = mg_ggx_G1(Vt, alpha);
     vec3 share, reflected;
     vec3 sum = mg_env_refraction_samples(Vt, frame, ior, alpha, fr, thin_walled, n, G1V, share, reflected);

@@ -25,8 +25,9 @@ vec3 mg_retro(vec3 Lt)
 }
 
 // The sample loop of mg_env_specular over the Fresnel curve FRESNEL(fr, cosine): NAME sums over n samples the
-// reflected radiance times F G2 / G1(v), each read at the level (lighting/environment_lod.glsl) of the reflected direction's density
-// D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v); a mirror (mg_ggx_is_mirror) takes one sample, along the normal. One loop, whose curve tests the lobe's thin film per sample
+// reflected radiance times F G2 / G1(v), each read at the level (lighting/environment_lod.glsl) of the reflected
+// direction's density D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v); a mirror (mg_ggx_is_mirror) takes one sample, along
+// the normal, whose reflection is never below the surface. One loop, whose curve tests the lobe's thin film per sample
 // (mg_fresnel_eval; the thickness is a uniform, so every pixel takes the same side): a film's copy of the loop
 // beside the bare curve's cost the GPU compilers 10% more instructions and compile time for no draw time gained on
 // llvmpipe (docs/measuring.md, 2026-11-27). (The backslashes are not aligned: a macro is joined into one line,
@@ -48,7 +49,8 @@ vec3 NAME(vec3 Vt, mat3 frame, vec2 alpha, MgFresnel fr, bool retro, int n, floa
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z); \
         vec3 L = frame * (retro ? mg_retro(Lt) : Lt); \
         vec3 F = FRESNEL(fr, VdotH); \
-        sum += mg_env_radiance(L, mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n)))) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
+        float lod = mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n))); \
+        sum += mg_env_radiance(L, lod) * F * (mg_ggx_G2(Lt, Vt, alpha) / G1V); \
     } \
     return sum; \
 }
@@ -64,7 +66,7 @@ vec3 mg_env_specular(vec3 V, mat3 frame, vec2 alpha, MgFresnel fr, bool retro)
 #ifdef MG_ENV_PREFILTERED
     return mg_env_prefiltered_lobe(Vt, frame, alpha, retro) * mg_ggx_albedo_at_view(Vt.z, alpha, fr);
 #else
-    int n = mg_ggx_is_mirror(alpha) ? 1 : max(u_envRadianceSamples, 1);
+    int n = mg_env_lobe_samples(alpha);
     float G1V = mg_ggx_G1(Vt, alpha);
     return mg_env_specular_samples(Vt, frame, alpha, fr, retro, n, G1V) / float(n);
 #endif

@@ -1,4 +1,5 @@
-// uniforms: u_envSampleFrame u_envSampleFrames
+// requires: pbrlib/microfacet/ggx.glsl
+// uniforms: u_envSampleFrame u_envSampleFrames u_envRadianceSamples
 // The Hammersley point set: point i of n is (i / n, radical inverse of i in base 2) (Hammersley 1964;
 // Pharr et al., "Physically Based Rendering", sec. 7.4).
 
@@ -65,4 +66,10 @@ int mg_env_sample_total(int n)
 #else
     return n * max(u_envSampleFrames, 1);
 #endif
+}
+
+// How many samples a GGX lobe of alphas `alpha` takes: u_envRadianceSamples, one for a mirror (mg_ggx_is_mirror).
+int mg_env_lobe_samples(vec2 alpha)
+{
+    return mg_ggx_is_mirror(alpha) ? 1 : max(u_envRadianceSamples, 1);
 }
