@@ -23,15 +23,14 @@ vec3 mg_epbr_env_lobe(vec3 V, mat3 frame, vec2 alpha)
     int texels = mg_env_texels();
     for (int i = 0; i < n; ++i)
     {
-        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
-        H = mirror ? vec3(0.0, 0.0, 1.0) : H;
+        vec3 H = mg_env_lobe_normal(Vt, alpha, mirror, i, n);
         vec3 Lt = reflect(-Vt, H);
         if (!mirror && Lt.z <= 0.0)
             continue;
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z);
         vec3 L = frame * Lt;
         float w = mg_ggx_G2(Lt, Vt, alpha) / G1V;
-        float lod = mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n)));
+        float lod = mg_env_lod(L, pdf, texels, mg_env_sample_total(n));
         sum += mg_env_radiance(L, lod) * w;
         wsum += w;
     }

@@ -50,14 +50,13 @@ vec3 NAME(vec3 Vt, mat3 frame, float ior, vec2 alpha, MgFresnel fr, bool thin_wa
     int texels = mg_env_texels(); \
     for (int i = 0; i < n; ++i) \
     { \
-        vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n)); \
-        H = mirror ? vec3(0.0, 0.0, 1.0) : H; \
+        vec3 H = mg_env_lobe_normal(Vt, alpha, mirror, i, n); \
         vec3 Lt = mg_refraction_exit(-Vt, H, ior, thin_walled); \
         float pdf = G1V * mg_ggx_D(H, alpha) / (4.0 * Vt.z); \
         vec3 L = frame * Lt; \
         vec3 F = FRESNEL(fr, clamp(dot(Vt, H), 0.0, 1.0)); \
         vec3 w = max(1.0 - F, 0.0); \
-        float lod = mg_env_lod(L, pdf, mg_env_lod_base(texels, mg_env_sample_total(n))); \
+        float lod = mg_env_lod(L, pdf, texels, mg_env_sample_total(n)); \
         sum += mg_env_radiance(L, lod) * w; \
         share += w; \
         vec3 Lr = reflect(-Vt, H); \

@@ -73,3 +73,12 @@ int mg_env_lobe_samples(vec2 alpha)
 {
     return mg_ggx_is_mirror(alpha) ? 1 : max(u_envRadianceSamples, 1);
 }
+
+// The microfacet normal of a GGX lobe's sample i of n about the view Vt (tangent space): a visible normal (Heitz
+// 2018) at the sample's point, or the normal itself for a mirror (mirror: mg_ggx_is_mirror(alpha)). The normal is
+// chosen after the visible one is made, from two plain values, so compilers select rather than branch.
+vec3 mg_env_lobe_normal(vec3 Vt, vec2 alpha, bool mirror, int i, int n)
+{
+    vec3 H = mg_ggx_sample_vndf(Vt, alpha, mg_env_sample_point(i, n));
+    return mirror ? vec3(0.0, 0.0, 1.0) : H;
+}

@@ -134,7 +134,7 @@ def _stride_body(node, em, out, i, diffuse_model, cel_ramp, workflow, fresnel, v
     _specular_terms(em, fresnel, vis, ndf)
     em.line("// density of mg_L: D NH / (4 LH); the estimate F V D/4 NL / pdf = F V NL LH / NH")
     em.line("float mg_pdf = mg_D * mg_NH / (4.0 * max(mg_LH, 1.0e-4));")
-    em.line("mg_specular += mg_env_radiance(mg_L, mg_env_lod(mg_L, mg_pdf, mg_env_lod_base(mg_texels, mg_env_sample_total(mg_n)))) * mg_F"
+    em.line("mg_specular += mg_env_radiance(mg_L, mg_env_lod(mg_L, mg_pdf, mg_texels, mg_env_sample_total(mg_n))) * mg_F"
             " * (mg_Vis * mg_NL * mg_LH / max(mg_NH, 1.0e-4));")
     em.close_block()
     em.line("%s.color += mg_specular / float(mg_n);" % out)
